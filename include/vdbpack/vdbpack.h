@@ -1,0 +1,282 @@
+/* vdbpack public C API: fill a closed container with non-overlapping
+ * particles and write them as OpenVDB points.
+ *
+ * Conventions (after OpenEXR Core / Embree):
+ *  - every call that can fail returns a vp_result; the context keeps a
+ *    message for the last failure, valid until the next call on it;
+ *  - new objects come back through an out-parameter and are owned by the
+ *    caller, who frees them with the matching _destroy(); destroy(NULL) is a
+ *    no-op;
+ *  - params structs have an _init() that fills defaults; a NULL params
+ *    pointer means defaults.
+ * Threading: a context and the objects made through it are used by one
+ * thread at a time; the library itself uses vp_context_set_threads() worker
+ * threads internally and its results do not depend on that number.
+ */
+#ifndef VDBPACK_VDBPACK_H
+#define VDBPACK_VDBPACK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VP_VERSION_STRING "0.1.0"
+
+/* ------------------------------------------------------------------ */
+/* Results and context                                                 */
+
+typedef enum vp_result {
+    VP_OK = 0,
+    VP_ERR_INVALID_ARGUMENT, /* a parameter is out of range or malformed */
+    VP_ERR_IO,               /* a file could not be read or written */
+    VP_ERR_FORMAT,           /* a file is not of the expected kind or is corrupt */
+    VP_ERR_OPEN_MESH,        /* the mesh has boundary or non-manifold edges */
+    VP_ERR_NOT_LEVEL_SET,    /* a .vdb holds no usable float level set */
+    VP_ERR_BAD_CONTAINER,    /* the container is empty or its inside leaks */
+    VP_ERR_NO_FIT,           /* no particle fits in the container */
+    VP_ERR_OUT_OF_MEMORY,    /* allocation failed or the estimate is too large */
+    VP_ERR_CANCELLED,        /* the progress callback asked to stop */
+    VP_ERR_INTERNAL          /* a bug: please report it */
+} vp_result;
+
+/* Static name of a result ("VP_ERR_IO"); never NULL. */
+const char *vp_result_name(vp_result r);
+
+typedef struct vp_context vp_context;
+
+/* Progress callback: fraction in [0,1] and a short stage name. Return 0 to
+ * cancel; the running call then returns VP_ERR_CANCELLED. */
+typedef int (*vp_progress_fn)(void *user, double fraction, const char *stage);
+
+/* Creates a context. *out is owned by the caller. */
+vp_result vp_context_create(vp_context **out);
+void vp_context_destroy(vp_context *ctx);
+/* Message of the last failure on ctx ("" if none). Owned by ctx, valid
+ * until the next call that takes ctx. */
+const char *vp_context_message(const vp_context *ctx);
+/* Worker threads for parallel stages; 0 (default) = all cores. */
+void vp_context_set_threads(vp_context *ctx, int threads);
+int vp_context_threads(const vp_context *ctx);
+void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user);
+/* Memory limit in bytes for estimates (0 = physical memory). */
+void vp_context_set_max_memory(vp_context *ctx, uint64_t bytes);
+uint64_t vp_context_max_memory(const vp_context *ctx);
+
+/* ------------------------------------------------------------------ */
+/* Shapes                                                              */
+
+typedef enum vp_shape {
+    VP_SHAPE_SPHERE = 0,
+    VP_SHAPE_TETRAHEDRON,
+    VP_SHAPE_CUBE,
+    VP_SHAPE_OCTAHEDRON,
+    VP_SHAPE_DODECAHEDRON,
+    VP_SHAPE_ICOSAHEDRON,
+    VP_SHAPE_COUNT
+} vp_shape;
+
+/* "sphere", "cube", ...; NULL for an invalid value. */
+const char *vp_shape_name(vp_shape s);
+/* Parses a shape name; returns 0 on success. */
+int vp_shape_parse(const char *name, vp_shape *out);
+/* Volume of the shape scaled to bounding-sphere (circum) radius 1. */
+double vp_shape_unit_volume(vp_shape s);
+/* Writes the unit shape (circumradius 1, centroid at the origin, in the
+ * orientation that `orient` = identity means) as an OBJ file, atomically. */
+vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path);
+
+/* ------------------------------------------------------------------ */
+/* Containers                                                          */
+
+typedef struct vp_container vp_container;
+
+/* A container seen through callbacks: how packers see every container. */
+typedef struct vp_container_ops {
+    /* Signed distance at world point p: negative inside, positive outside.
+     * Must be safe to call from several threads at once. */
+    double (*distance)(void *user, const double p[3]);
+    /* Optional: outward unit gradient of the distance; NULL = central
+     * differences. */
+    void (*gradient)(void *user, const double p[3], double g[3]);
+    /* Optional: frees user when the container is destroyed. */
+    void (*destroy)(void *user);
+} vp_container_ops;
+
+typedef enum vp_container_kind {
+    VP_CONTAINER_ANALYTIC = 0,
+    VP_CONTAINER_MESH,
+    VP_CONTAINER_LEVEL_SET
+} vp_container_kind;
+
+/* What is known about a container (filled by the library). */
+typedef struct vp_container_info {
+    vp_container_kind kind;
+    double bmin[3], bmax[3];  /* world bounds of the inside */
+    double volume;            /* world volume of the inside */
+    double voxel_size;        /* 0 for analytic containers */
+    double interior_band;     /* depth (world) to which distances are exact
+                                 inside; HUGE_VAL for analytic containers */
+    char voxel_reason[160];   /* why this voxel size was chosen */
+    char grid_name[128];      /* level-set grid name (may be empty) */
+    size_t active_voxels;
+    /* mesh containers only */
+    size_t mesh_vertices;     /* after welding */
+    size_t mesh_vertices_raw; /* before welding */
+    size_t mesh_triangles;
+    size_t boundary_edges;
+    size_t nonmanifold_edges;
+    double mesh_volume;       /* |signed volume| of the mesh */
+} vp_container_info;
+
+/* Analytic containers (exact; for tests and simple jobs). */
+vp_result vp_container_create_sphere(vp_context *ctx, const double center[3],
+                                     double radius, vp_container **out);
+vp_result vp_container_create_box(vp_context *ctx, const double bmin[3],
+                                  const double bmax[3], vp_container **out);
+/* A caller-defined container. user is owned by the container if
+ * ops->destroy is set. bounds must enclose the inside. */
+vp_result vp_container_create_custom(vp_context *ctx, const vp_container_ops *ops,
+                                     void *user, const double bmin[3],
+                                     const double bmax[3], double volume,
+                                     vp_container **out);
+
+typedef struct vp_container_params {
+    double voxel_size;        /* 0 = automatic */
+    double particle_radius;   /* largest particle bounding radius (world);
+                                 sizes the interior band and the auto voxel
+                                 size; 0 = unknown (use particle_count) */
+    size_t particle_count;    /* expected count when the radius is unknown */
+    int allow_open;           /* voxelize open/non-manifold meshes anyway */
+    const char *grid_name;    /* .vdb: grid to use; NULL = first level set */
+} vp_container_params;
+void vp_container_params_init(vp_container_params *p);
+
+/* Loads a container from a mesh (anything Assimp reads) or a .vdb level
+ * set, chosen by content/extension. *out is owned by the caller. */
+vp_result vp_container_load(vp_context *ctx, const char *path,
+                            const vp_container_params *params, vp_container **out);
+
+void vp_container_destroy(vp_container *c);
+double vp_container_distance(const vp_container *c, const double p[3]);
+void vp_container_gradient(const vp_container *c, const double p[3], double g[3]);
+void vp_container_get_info(const vp_container *c, vp_container_info *info);
+/* Writes a level-set container as its own .vdb (atomically). Analytic
+ * containers are refused with VP_ERR_INVALID_ARGUMENT. */
+vp_result vp_container_save(vp_context *ctx, const vp_container *c, const char *path);
+
+/* ------------------------------------------------------------------ */
+/* Particles                                                           */
+
+#define VP_MAX_GROUPS 64
+#define VP_GROUP_NAME_MAX 32
+
+/* A particle set. All arrays are owned by the set (vp_particles_destroy). */
+typedef struct vp_particles {
+    size_t count;
+    size_t capacity;
+    double *positions;      /* 3*count world-space centres */
+    float *radii;           /* count bounding-sphere radii, or NULL: all uniform_radius */
+    float uniform_radius;
+    float *orients;         /* 4*count unit quaternions (x,y,z,w), or NULL: all uniform_orient */
+    float uniform_orient[4];
+    int has_orient;         /* 0: spheres, no orient attribute */
+    vp_shape shape;
+    uint16_t *groups;       /* count group indices, or NULL: all in group 0 */
+    unsigned group_count;   /* >= 1 */
+    char group_names[VP_MAX_GROUPS][VP_GROUP_NAME_MAX];
+} vp_particles;
+
+vp_result vp_particles_create(vp_context *ctx, size_t capacity, vp_particles **out);
+void vp_particles_destroy(vp_particles *p);
+/* Sum of particle volumes (shape volume times radius cubed). */
+double vp_particles_volume(const vp_particles *p);
+
+/* ------------------------------------------------------------------ */
+/* Lattice packer                                                      */
+
+typedef enum vp_lattice {
+    VP_LATTICE_DEFAULT = 0, /* FCC for spheres, densest lattice for solids */
+    VP_LATTICE_SC,
+    VP_LATTICE_BCC,
+    VP_LATTICE_FCC,
+    VP_LATTICE_HCP,
+    VP_LATTICE_DENSEST
+} vp_lattice;
+
+const char *vp_lattice_name(vp_lattice l);
+int vp_lattice_parse(const char *name, vp_lattice *out);
+
+typedef enum vp_fit {
+    VP_FIT_INSIDE = 0, /* every particle wholly inside (every vertex for polyhedra) */
+    VP_FIT_CENTER      /* centre inside */
+} vp_fit;
+
+typedef struct vp_lattice_params {
+    vp_shape shape;
+    vp_lattice lattice;
+    vp_fit fit;
+    double radius;       /* bounding-sphere radius; 0 = from count */
+    size_t count;        /* wanted count when radius == 0 */
+    int offsets;         /* placement offsets to try; 0 = automatic, 1 = none */
+    int rotate;          /* also search orientations */
+    int rotations;       /* orientations to try with rotate; 0 = automatic */
+    uint64_t seed;
+} vp_lattice_params;
+void vp_lattice_params_init(vp_lattice_params *p);
+
+typedef struct vp_lattice_report {
+    double radius;            /* radius used */
+    size_t count;             /* particles placed */
+    int offsets_tried;        /* placements evaluated in total */
+    int rotations_tried;
+    int radius_iterations;    /* count mode: radii tried */
+    double offset[3];         /* chosen lattice offset (world) */
+    double rotation[4];       /* chosen global rotation (x,y,z,w) */
+    double lattice_fraction;  /* fraction of the infinite lattice */
+    double particle_volume;   /* sum of particle volumes */
+    double seconds;
+} vp_lattice_report;
+
+/* Fills container c. *out is owned by the caller; report may be NULL. */
+vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c,
+                          const vp_lattice_params *params, vp_particles **out,
+                          vp_lattice_report *report);
+
+/* ------------------------------------------------------------------ */
+/* Output                                                              */
+
+typedef enum vp_meta_type { VP_META_STRING = 0, VP_META_INT, VP_META_DOUBLE } vp_meta_type;
+
+typedef struct vp_meta {
+    const char *key;
+    vp_meta_type type;
+    const char *s;
+    int64_t i;
+    double d;
+} vp_meta;
+
+typedef struct vp_write_params {
+    int full_precision;      /* 1: float P; 0: 16-bit fixed point */
+    int points_per_voxel;    /* for OpenVDB's voxel-size helper; default 8 */
+    const vp_meta *meta;     /* file metadata; may be NULL */
+    size_t meta_count;
+} vp_write_params;
+void vp_write_params_init(vp_write_params *p);
+
+/* Writes a PointDataGrid "points" to path (atomically). */
+vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
+                          const vp_write_params *params);
+/* Reads the "points" grid of a file written by vp_write_points (or any
+ * PointDataGrid with P and optionally pscale, orient). */
+vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out);
+/* Describes every grid and the metadata of a .vdb; *out is malloc'd text
+ * (JSON if json != 0) owned by the caller (free()). */
+vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

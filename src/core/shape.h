@@ -1,0 +1,37 @@
+/* Particle shapes: the sphere and the five platonic solids, each scaled to
+ * bounding-sphere (circum) radius 1 with its centroid at the origin, in the
+ * canonical orientation that the lattice bases of lattice_basis.h assume.
+ * A particle with pscale s and orient q occupies { s * rotate(q, x) + P }. */
+#ifndef VDBPACK_CORE_SHAPE_H
+#define VDBPACK_CORE_SHAPE_H
+
+#include "vdbpack/vdbpack.h"
+
+#define VP_POLY_MAX_VERTS 20
+#define VP_POLY_MAX_FACES 20
+#define VP_POLY_MAX_FACE_VERTS 5
+
+typedef struct vp_polyhedron {
+    int nverts, nfaces;
+    double verts[VP_POLY_MAX_VERTS][3];
+    int face_size[VP_POLY_MAX_FACES];
+    int faces[VP_POLY_MAX_FACES][VP_POLY_MAX_FACE_VERTS]; /* counter-clockwise seen from outside */
+    double normals[VP_POLY_MAX_FACES][3];                 /* outward unit face normals */
+    int nedges;
+    int edges[30][2];                                     /* unique undirected edges */
+    double volume;     /* at circumradius 1 */
+    double inradius;   /* at circumradius 1 */
+} vp_polyhedron;
+
+/* The unit polyhedron of a solid; NULL for VP_SHAPE_SPHERE. Static storage,
+ * thread-safe after the first call (built by a pthread_once). */
+const vp_polyhedron *vp_shape_polyhedron(vp_shape s);
+
+/* Separating-axis test of two convex polyhedra placed at (scale, q, t):
+ * returns the largest separation over the SAT axes (face normals of both,
+ * cross products of edge pairs). > 0: separated by at least that gap;
+ * 0: touching; < 0: overlapping, and -value is the penetration depth along
+ * the best axis. Double precision. */
+double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
+                          const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]);
+#endif

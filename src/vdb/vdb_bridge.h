@@ -1,0 +1,102 @@
+/* The extern "C" interface of the only C++ layer: everything that touches
+ * OpenVDB goes through these functions. No C++ exception crosses this
+ * boundary: every function catches everything and returns a code with a
+ * message (one line, no trailing newline, naming the file where there is
+ * one) written to err[errlen].
+ * Return codes are vp_result values (see include/vdbpack/vdbpack.h). */
+#ifndef VDBPACK_VDB_BRIDGE_H
+#define VDBPACK_VDB_BRIDGE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "vdbpack/vdbpack.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Initialises OpenVDB (idempotent, thread-safe). */
+void vpv_init(void);
+
+/* An owned openvdb::FloatGrid level set (negative inside). */
+typedef struct vpv_levelset vpv_levelset;
+
+typedef struct vpv_levelset_info {
+    double voxel_size;     /* smallest voxel edge (world) */
+    double bmin[3], bmax[3]; /* world bbox of the active voxels */
+    double background;     /* exterior background value (world units, > 0) */
+    double interior_band;  /* depth inside to which values are distances:
+                              the grid's -(most negative value) */
+    size_t active_voxels;
+    size_t inside_voxels;  /* active voxels < 0 (tiles counted by voxel) */
+    double volume;         /* world volume inside (OpenVDB level-set measure) */
+    int leaked;            /* 1: some voxel on a face of the active bbox is < 0,
+                              i.e. the inside reaches the grid's boundary */
+    char name[128];
+} vpv_levelset_info;
+
+/* Voxelizes a closed triangle mesh with openvdb::tools::meshToVolume.
+ * verts: 3*nverts world coordinates (double, so far-from-origin meshes keep
+ * their precision: the transform is centred on the mesh); tris: 3*ntris
+ * indices. voxel: world voxel size. ex_band/in_band: exterior/interior
+ * half-widths in voxels (in_band sized for the largest particle).
+ * *out is owned by the caller (vpv_levelset_destroy). */
+int vpv_levelset_from_mesh(const double *verts, size_t nverts,
+                           const uint32_t *tris, size_t ntris,
+                           double voxel, double ex_band, double in_band,
+                           vpv_levelset **out, char *err, size_t errlen);
+
+/* Reads a level set from a .vdb. grid_name NULL: the first float level set
+ * (GRID_LEVEL_SET class, float or double values; double is converted);
+ * otherwise the grid with that name ("" = unnamed). A file without such a
+ * grid gives VP_ERR_NOT_LEVEL_SET with a message listing every grid as
+ * name [class, value type]. Truncated/corrupt files give VP_ERR_FORMAT,
+ * missing ones VP_ERR_IO. */
+int vpv_levelset_read(const char *path, const char *grid_name,
+                      vpv_levelset **out, char *err, size_t errlen);
+
+/* Makes sure values are distances to at least in_depth (world) inside; if
+ * the grid's interior band is narrower, it is rebuilt (levelSetRebuild)
+ * with a wide enough interior band. */
+int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth,
+                                 char *err, size_t errlen);
+
+void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info);
+
+/* Trilinear sample of the signed distance at world point p. Outside the
+ * narrow band the background (+ outside, - inside) is returned.
+ * Safe to call from several threads at once. */
+double vpv_levelset_sample(const vpv_levelset *ls, const double p[3]);
+/* Gradient (outward, normalised) by central differences at half a voxel. */
+void vpv_levelset_gradient(const vpv_levelset *ls, const double p[3], double g[3]);
+
+/* Writes the level set alone to path (not atomic: the caller passes a
+ * temporary path and renames). meta may be NULL. */
+int vpv_levelset_write(const vpv_levelset *ls, const char *path,
+                       const vp_meta *meta, size_t meta_count,
+                       char *err, size_t errlen);
+
+void vpv_levelset_destroy(vpv_levelset *ls);
+
+/* Writes particles as a PointDataGrid named "points" (see vp_write_points
+ * for the attribute layout) to path (not atomic: caller renames). File
+ * metadata from params->meta, also copied onto the grid. */
+int vpv_points_write(const char *path, const vp_particles *p,
+                     const vp_write_params *params, char *err, size_t errlen);
+
+/* Reads the first PointDataGrid (preferring one named "points"): P,
+ * pscale (else radius 0), orient (else none), groups (pass groups in the
+ * order of the descriptor). *out allocated with vp_particles_alloc_raw
+ * semantics: free with vp_particles_destroy. */
+int vpv_points_read(const char *path, vp_particles **out, char *err, size_t errlen);
+
+/* Describes every grid of a file (name, type, class, voxel size, active
+ * voxels, bbox; for points: count, attributes with type and codec, groups)
+ * and the file metadata. *out is malloc'd (free()). json != 0: one JSON
+ * object. */
+int vpv_describe_file(const char *path, int json, char **out, char *err, size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
