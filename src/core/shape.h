@@ -21,6 +21,12 @@ typedef struct vp_polyhedron {
     int edges[30][2];                                     /* unique undirected edges */
     double volume;     /* at circumradius 1 */
     double inradius;   /* at circumradius 1 */
+    /* Helpers for the separating-axis test: face normals and edge
+     * directions, unit length and unique up to sign (centrally symmetric
+     * solids have half as many as faces/edges). */
+    int nface_dirs, nedge_dirs;
+    double face_dirs[VP_POLY_MAX_FACES][3];
+    double edge_dirs[30][3];
 } vp_polyhedron;
 
 /* The unit polyhedron of a solid; NULL for VP_SHAPE_SPHERE. Static storage,

@@ -1,0 +1,328 @@
+/* Particle shapes: names, unit volumes, the five platonic solids as convex
+ * polyhedra (circumradius 1, centroid at the origin) and the separating-axis
+ * test. See shape.h and docs/lattices.md for the canonical orientations. */
+#include "core/shape.h"
+#include "core/geom.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stddef.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------ */
+/* Names                                                               */
+
+static const char *const vp_shape_names[VP_SHAPE_COUNT] = {
+    "sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron"};
+
+static const char *const vp_lattice_names[] = {"default", "sc", "bcc", "fcc", "hcp", "densest"};
+#define VP_LATTICE_NAME_COUNT ((int)(sizeof vp_lattice_names / sizeof vp_lattice_names[0]))
+
+static int vp_streq_nocase(const char *a, const char *b) {
+    for (;; ++a, ++b) {
+        int ca = (unsigned char)*a, cb = (unsigned char)*b;
+        if (ca >= 'A' && ca <= 'Z') ca += 'a' - 'A';
+        if (cb >= 'A' && cb <= 'Z') cb += 'a' - 'A';
+        if (ca != cb) return 0;
+        if (ca == 0) return 1;
+    }
+}
+
+const char *vp_shape_name(vp_shape s) {
+    if ((int)s < 0 || (int)s >= VP_SHAPE_COUNT) return NULL;
+    return vp_shape_names[s];
+}
+
+int vp_shape_parse(const char *name, vp_shape *out) {
+    if (!name || !out) return -1;
+    for (int i = 0; i < VP_SHAPE_COUNT; ++i)
+        if (vp_streq_nocase(name, vp_shape_names[i])) { *out = (vp_shape)i; return 0; }
+    return -1;
+}
+
+const char *vp_lattice_name(vp_lattice l) {
+    if ((int)l < 0 || (int)l >= VP_LATTICE_NAME_COUNT) return NULL;
+    return vp_lattice_names[l];
+}
+
+int vp_lattice_parse(const char *name, vp_lattice *out) {
+    if (!name || !out) return -1;
+    for (int i = 0; i < VP_LATTICE_NAME_COUNT; ++i)
+        if (vp_streq_nocase(name, vp_lattice_names[i])) { *out = (vp_lattice)i; return 0; }
+    return -1;
+}
+
+/* ------------------------------------------------------------------ */
+/* Polyhedra                                                           */
+
+static vp_polyhedron vp_polys[VP_SHAPE_COUNT];
+static pthread_once_t vp_polys_once = PTHREAD_ONCE_INIT;
+
+/* Canonical vertex sets (before scaling to circumradius 1):
+ *  tetrahedron  : alternate cube corners (1,1,1),(1,-1,-1),(-1,1,-1),(-1,-1,1)
+ *  cube         : (+-1,+-1,+-1), axis aligned
+ *  octahedron   : (+-1,0,0),(0,+-1,0),(0,0,+-1)
+ *  dodecahedron : (+-1,+-1,+-1), (0,+-1/phi,+-phi) and its cyclic permutations
+ *  icosahedron  : (0,+-1,+-phi) and its cyclic permutations */
+static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
+    const double phi = 0.5 * (1.0 + sqrt(5.0));
+    int n = 0;
+    switch (s) {
+    case VP_SHAPE_TETRAHEDRON: {
+        static const double t[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+        for (int i = 0; i < 4; ++i, ++n) memcpy(v[n], t[i], sizeof t[i]);
+        break;
+    }
+    case VP_SHAPE_CUBE:
+        for (int i = 0; i < 8; ++i, ++n) {
+            v[n][0] = (i & 1) ? 1 : -1; v[n][1] = (i & 2) ? 1 : -1; v[n][2] = (i & 4) ? 1 : -1;
+        }
+        break;
+    case VP_SHAPE_OCTAHEDRON:
+        for (int ax = 0; ax < 3; ++ax)
+            for (int sg = -1; sg <= 1; sg += 2, ++n) {
+                v[n][0] = v[n][1] = v[n][2] = 0; v[n][ax] = sg;
+            }
+        break;
+    case VP_SHAPE_DODECAHEDRON:
+        for (int i = 0; i < 8; ++i, ++n) {
+            v[n][0] = (i & 1) ? 1 : -1; v[n][1] = (i & 2) ? 1 : -1; v[n][2] = (i & 4) ? 1 : -1;
+        }
+        for (int c = 0; c < 3; ++c)
+            for (int i = 0; i < 4; ++i, ++n) {
+                double p[3] = {0, ((i & 1) ? 1 : -1) / phi, ((i & 2) ? 1 : -1) * phi};
+                v[n][c] = p[0]; v[n][(c + 1) % 3] = p[1]; v[n][(c + 2) % 3] = p[2];
+            }
+        break;
+    case VP_SHAPE_ICOSAHEDRON:
+        for (int c = 0; c < 3; ++c)
+            for (int i = 0; i < 4; ++i, ++n) {
+                double p[3] = {0, (i & 1) ? 1 : -1, ((i & 2) ? 1 : -1) * phi};
+                v[n][c] = p[0]; v[n][(c + 1) % 3] = p[1]; v[n][(c + 2) % 3] = p[2];
+            }
+        break;
+    default:
+        return 0;
+    }
+    /* scale to circumradius 1 (all vertices are equidistant) */
+    double r = vp_norm3(v[0]);
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) v[i][k] /= r;
+    return n;
+}
+
+static int vp_dir_known(double dirs[][3], int n, const double d[3]) {
+    for (int i = 0; i < n; ++i)
+        if (fabs(fabs(vp_dot3(dirs[i], d)) - 1.0) < 1e-9) return 1;
+    return 0;
+}
+
+/* Brute-force convex hull of a small point set that is in convex position. */
+static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
+    memset(P, 0, sizeof *P);
+    P->nverts = vp_make_verts(s, P->verts);
+    const int n = P->nverts;
+    const double eps = 1e-9;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            for (int k = j + 1; k < n; ++k) {
+                double e1[3], e2[3], nn[3];
+                for (int c = 0; c < 3; ++c) {
+                    e1[c] = P->verts[j][c] - P->verts[i][c];
+                    e2[c] = P->verts[k][c] - P->verts[i][c];
+                }
+                vp_cross3(e1, e2, nn);
+                double len = vp_norm3(nn);
+                if (len < 1e-9) continue;
+                for (int c = 0; c < 3; ++c) nn[c] /= len;
+                double d = vp_dot3(nn, P->verts[i]);
+                int above = 0, below = 0;
+                for (int m = 0; m < n; ++m) {
+                    double t = vp_dot3(nn, P->verts[m]) - d;
+                    if (t > eps) ++above;
+                    if (t < -eps) ++below;
+                }
+                if (above && below) continue;
+                if (above) { for (int c = 0; c < 3; ++c) nn[c] = -nn[c]; d = -d; }
+                int dup = 0;
+                for (int f = 0; f < P->nfaces; ++f)
+                    if (vp_dot3(P->normals[f], nn) > 1 - 1e-9) dup = 1;
+                if (dup) continue;
+                /* a new face: collect its vertices and sort them CCW about nn */
+                int f = P->nfaces++;
+                memcpy(P->normals[f], nn, sizeof nn);
+                int idx[VP_POLY_MAX_VERTS], cnt = 0;
+                double cen[3] = {0, 0, 0};
+                for (int m = 0; m < n; ++m)
+                    if (fabs(vp_dot3(nn, P->verts[m]) - d) <= eps) {
+                        idx[cnt++] = m;
+                        for (int c = 0; c < 3; ++c) cen[c] += P->verts[m][c];
+                    }
+                for (int c = 0; c < 3; ++c) cen[c] /= cnt;
+                double u[3], w[3], ang[VP_POLY_MAX_VERTS];
+                for (int c = 0; c < 3; ++c) u[c] = P->verts[idx[0]][c] - cen[c];
+                double ul = vp_norm3(u);
+                for (int c = 0; c < 3; ++c) u[c] /= ul;
+                vp_cross3(nn, u, w);
+                for (int m = 0; m < cnt; ++m) {
+                    double r[3];
+                    for (int c = 0; c < 3; ++c) r[c] = P->verts[idx[m]][c] - cen[c];
+                    ang[m] = atan2(vp_dot3(r, w), vp_dot3(r, u));
+                }
+                for (int a = 1; a < cnt; ++a) /* insertion sort by angle */
+                    for (int b = a; b > 0 && ang[b] < ang[b - 1]; --b) {
+                        double ta = ang[b]; ang[b] = ang[b - 1]; ang[b - 1] = ta;
+                        int ti = idx[b]; idx[b] = idx[b - 1]; idx[b - 1] = ti;
+                    }
+                P->face_size[f] = cnt;
+                for (int m = 0; m < cnt; ++m) P->faces[f][m] = idx[m];
+            }
+    /* unique edges, volume, inradius */
+    P->inradius = HUGE_VAL;
+    for (int f = 0; f < P->nfaces; ++f) {
+        int cnt = P->face_size[f];
+        double h = vp_dot3(P->normals[f], P->verts[P->faces[f][0]]);
+        if (h < P->inradius) P->inradius = h;
+        double area2[3] = {0, 0, 0};
+        for (int m = 0; m < cnt; ++m) {
+            int a = P->faces[f][m], b = P->faces[f][(m + 1) % cnt], dup = 0;
+            double c[3];
+            vp_cross3(P->verts[a], P->verts[b], c);
+            for (int q = 0; q < 3; ++q) area2[q] += c[q];
+            for (int e = 0; e < P->nedges; ++e)
+                if ((P->edges[e][0] == a && P->edges[e][1] == b) ||
+                    (P->edges[e][0] == b && P->edges[e][1] == a)) dup = 1;
+            if (!dup) { P->edges[P->nedges][0] = a; P->edges[P->nedges][1] = b; ++P->nedges; }
+        }
+        P->volume += h * 0.5 * vp_dot3(area2, P->normals[f]) / 3.0;
+    }
+    /* SAT directions, unique up to sign */
+    for (int f = 0; f < P->nfaces; ++f)
+        if (!vp_dir_known(P->face_dirs, P->nface_dirs, P->normals[f]))
+            memcpy(P->face_dirs[P->nface_dirs++], P->normals[f], sizeof P->normals[f]);
+    for (int e = 0; e < P->nedges; ++e) {
+        double d[3];
+        for (int c = 0; c < 3; ++c) d[c] = P->verts[P->edges[e][1]][c] - P->verts[P->edges[e][0]][c];
+        double len = vp_norm3(d);
+        for (int c = 0; c < 3; ++c) d[c] /= len;
+        if (!vp_dir_known(P->edge_dirs, P->nedge_dirs, d))
+            memcpy(P->edge_dirs[P->nedge_dirs++], d, sizeof d);
+    }
+}
+
+static void vp_build_all(void) {
+    for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; ++s) vp_build_poly((vp_shape)s, &vp_polys[s]);
+}
+
+const vp_polyhedron *vp_shape_polyhedron(vp_shape s) {
+    if ((int)s <= (int)VP_SHAPE_SPHERE || (int)s >= VP_SHAPE_COUNT) return NULL;
+    pthread_once(&vp_polys_once, vp_build_all);
+    return &vp_polys[s];
+}
+
+double vp_shape_unit_volume(vp_shape s) {
+    if (s == VP_SHAPE_SPHERE) return 4.0 * 3.14159265358979323846 / 3.0;
+    const vp_polyhedron *p = vp_shape_polyhedron(s);
+    return p ? p->volume : 0.0;
+}
+
+/* ------------------------------------------------------------------ */
+/* Separating-axis test                                                */
+
+static void vp_interval(const double (*w)[3], int n, const double ax[3], double *lo, double *hi) {
+    double mn = vp_dot3(w[0], ax), mx = mn;
+    for (int i = 1; i < n; ++i) {
+        double t = vp_dot3(w[i], ax);
+        if (t < mn) mn = t;
+        if (t > mx) mx = t;
+    }
+    *lo = mn; *hi = mx;
+}
+
+/* Gap of the two vertex sets along unit axis ax (negative: overlap). */
+static double vp_axis_gap(const double (*wa)[3], int na, const double (*wb)[3], int nb,
+                          const double ax[3]) {
+    double alo, ahi, blo, bhi;
+    vp_interval(wa, na, ax, &alo, &ahi);
+    vp_interval(wb, nb, ax, &blo, &bhi);
+    double g1 = blo - ahi, g2 = alo - bhi;
+    return g1 > g2 ? g1 : g2;
+}
+
+double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
+                          const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]) {
+    static const double qid[4] = {0, 0, 0, 1};
+    static const double tzero[3] = {0, 0, 0};
+    if (!qa) qa = qid;
+    if (!qb) qb = qid;
+    if (!ta) ta = tzero;
+    if (!tb) tb = tzero;
+    double ma[3][3], mb[3][3];
+    vp_quat_to_matrix(qa, ma);
+    vp_quat_to_matrix(qb, mb);
+    /* Work relative to a's centre to keep the numbers small. */
+    double rel[3] = {tb[0] - ta[0], tb[1] - ta[1], tb[2] - ta[2]};
+    double wa[VP_POLY_MAX_VERTS][3], wb[VP_POLY_MAX_VERTS][3];
+    for (int i = 0; i < a->nverts; ++i)
+        for (int r = 0; r < 3; ++r)
+            wa[i][r] = sa * (ma[r][0] * a->verts[i][0] + ma[r][1] * a->verts[i][1] + ma[r][2] * a->verts[i][2]);
+    for (int i = 0; i < b->nverts; ++i)
+        for (int r = 0; r < 3; ++r)
+            wb[i][r] = rel[r] + sb * (mb[r][0] * b->verts[i][0] + mb[r][1] * b->verts[i][1] + mb[r][2] * b->verts[i][2]);
+    /* Rotated SAT directions (fall back to raw normals/edges when the
+     * helper fields are not filled in). */
+    double fa[VP_POLY_MAX_FACES][3], fb[VP_POLY_MAX_FACES][3], ea[30][3], eb[30][3];
+    int nfa, nfb, nea, neb;
+    const vp_polyhedron *src[2] = {a, b};
+    double (*fd[2])[3] = {fa, fb}, (*ed[2])[3] = {ea, eb};
+    int *nf[2] = {&nfa, &nfb}, *ne[2] = {&nea, &neb};
+    double (*mm[2])[3] = {ma, mb};
+    for (int s = 0; s < 2; ++s) {
+        const vp_polyhedron *p = src[s];
+        int useh = p->nface_dirs > 0 && p->nedge_dirs > 0;
+        int nface = useh ? p->nface_dirs : p->nfaces;
+        int nedge = useh ? p->nedge_dirs : p->nedges;
+        for (int f = 0; f < nface; ++f) {
+            const double *n = useh ? p->face_dirs[f] : p->normals[f];
+            for (int r = 0; r < 3; ++r)
+                fd[s][f][r] = mm[s][r][0] * n[0] + mm[s][r][1] * n[1] + mm[s][r][2] * n[2];
+        }
+        for (int e = 0; e < nedge; ++e) {
+            double d[3];
+            if (useh) {
+                memcpy(d, p->edge_dirs[e], sizeof d);
+            } else {
+                for (int c = 0; c < 3; ++c) d[c] = p->verts[p->edges[e][1]][c] - p->verts[p->edges[e][0]][c];
+                double l = vp_norm3(d);
+                for (int c = 0; c < 3; ++c) d[c] /= l;
+            }
+            for (int r = 0; r < 3; ++r)
+                ed[s][e][r] = mm[s][r][0] * d[0] + mm[s][r][1] * d[1] + mm[s][r][2] * d[2];
+        }
+        *nf[s] = nface;
+        *ne[s] = nedge;
+    }
+    double best = -HUGE_VAL;
+    for (int f = 0; f < nfa; ++f) {
+        double g = vp_axis_gap((const double (*)[3])wa, a->nverts, (const double (*)[3])wb, b->nverts, fa[f]);
+        if (g > best) best = g;
+    }
+    for (int f = 0; f < nfb; ++f) {
+        double g = vp_axis_gap((const double (*)[3])wa, a->nverts, (const double (*)[3])wb, b->nverts, fb[f]);
+        if (g > best) best = g;
+    }
+    for (int i = 0; i < nea; ++i)
+        for (int j = 0; j < neb; ++j) {
+            double c[3];
+            vp_cross3(ea[i], eb[j], c);
+            double l = vp_norm3(c);
+            /* (nearly) parallel edges: the axis is ill-defined and is
+             * covered by the face normals; skipping it can only make the
+             * answer more conservative. */
+            if (l < 1e-6) continue;
+            c[0] /= l; c[1] /= l; c[2] /= l;
+            double g = vp_axis_gap((const double (*)[3])wa, a->nverts, (const double (*)[3])wb, b->nverts, c);
+            if (g > best) best = g;
+        }
+    return best;
+}
