@@ -149,6 +149,10 @@ typedef struct vp_container_params {
                                  sizes the interior band and the auto voxel
                                  size; 0 = unknown (use particle_count) */
     size_t particle_count;    /* expected count when the radius is unknown */
+    double space_per_particle; /* with particle_count: volume one particle of
+                                 bounding radius 1 takes up in the packing
+                                 (shape volume / packing fraction);
+                                 0 = spheres on FCC */
     int allow_open;           /* voxelize open/non-manifold meshes anyway */
     const char *grid_name;    /* .vdb: grid to use; NULL = first level set */
 } vp_container_params;

@@ -26,7 +26,12 @@ typedef struct vp_mesh {
  * Errors (one line naming the file, written to err): missing/unreadable
  * file (VP_ERR_IO), a file Assimp cannot parse or with no triangles
  * (VP_ERR_FORMAT), a non-finite coordinate (VP_ERR_FORMAT, naming the
- * vertex). Open meshes are NOT refused here: the caller reads the counts.
+ * vertex and its coordinates; the number is Assimp's 0-based vertex index
+ * counted over all meshes, and since Assimp's OBJ and STL readers give every
+ * face corner its own vertex it is NOT the file's `v` line number).
+ * Open meshes are NOT refused here: the caller reads the counts.
+ * Assimp (as packaged) stores coordinates as float: they are widened to
+ * double, so values that differ only beyond float precision weld together.
  * *out is owned by the caller (vp_mesh_destroy). */
 vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen);
 

@@ -1,0 +1,21 @@
+/* Atomic file output: write to a temporary file beside the target, then
+ * rename over it, so that no partial file is ever left at the target. */
+#ifndef VDBPACK_API_ATOMIC_H
+#define VDBPACK_API_ATOMIC_H
+
+#include "vdbpack/vdbpack.h"
+
+typedef struct vp_atomic {
+    char final_path[4096];
+    char tmp_path[4096];
+} vp_atomic;
+
+/* Checks that path can be written (not a directory, parent exists and is
+ * writable) and creates an empty temporary file beside it. */
+vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a);
+/* Renames the temporary file onto the target. On failure the temporary
+ * file is removed. */
+vp_result vp_atomic_commit(vp_context *ctx, vp_atomic *a);
+/* Removes the temporary file (after a failed write). */
+void vp_atomic_abort(vp_atomic *a);
+#endif

@@ -1,0 +1,259 @@
+/* Loading containers: meshes (through Assimp) voxelized by OpenVDB, and
+ * level sets read from .vdb files. Both end up as a vp_container whose
+ * distance is a trilinear sample of the level set. */
+#include "api/atomic.h"
+#include "core/container.h"
+#include "core/context.h"
+#include "mesh/mesh.h"
+#include "vdb/vdb_bridge.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vp_container_params_init(vp_container_params *p) {
+    if (p) memset(p, 0, sizeof *p);
+}
+
+static double ls_distance(void *user, const double p[3]) { return vpv_levelset_sample(user, p); }
+static void ls_gradient(void *user, const double p[3], double g[3]) {
+    vpv_levelset_gradient(user, p, g);
+}
+static void ls_destroy(void *user) { vpv_levelset_destroy(user); }
+
+static const char *base_name(const char *path) {
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+/* True when the file starts with OpenVDB's magic number or ends in .vdb. */
+static int looks_like_vdb(const char *path) {
+    size_t n = strlen(path);
+    if (n >= 4) {
+        const char *e = path + n - 4;
+        if (e[0] == '.' && tolower((unsigned char)e[1]) == 'v' &&
+            tolower((unsigned char)e[2]) == 'd' && tolower((unsigned char)e[3]) == 'b')
+            return 1;
+    }
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    unsigned char m[4] = {0};
+    size_t got = fread(m, 1, 4, f);
+    fclose(f);
+    return got == 4 && m[0] == 0x20 && m[1] == 0x42 && m[2] == 0x44 && m[3] == 0x56;
+}
+
+/* Wraps a level set into a container after the sanity checks. */
+static vp_result finish_levelset(vp_context *ctx, const char *path, vpv_levelset *ls,
+                                 vp_container_info *info, vp_container **out) {
+    vpv_levelset_info li;
+    vpv_levelset_get_info(ls, &li);
+    if (li.leaked) {
+        vpv_levelset_destroy(ls);
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
+                       "%s: the inside of the level set reaches its bounding box (it leaks: "
+                       "the surface is probably open), refusing to pack it", base_name(path));
+    }
+    if (li.inside_voxels == 0 || !(li.volume > 0)) {
+        vpv_levelset_destroy(ls);
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
+                       "%s: the level set has an empty inside (no voxel below zero%s)",
+                       base_name(path),
+                       info->kind == VP_CONTAINER_MESH ? "; is the mesh thinner than a voxel? "
+                                                         "try a smaller --voxel-size" : "");
+    }
+    memcpy(info->bmin, li.bmin, sizeof info->bmin);
+    memcpy(info->bmax, li.bmax, sizeof info->bmax);
+    info->volume = li.volume;
+    info->voxel_size = li.voxel_size;
+    info->interior_band = li.interior_band;
+    info->active_voxels = li.active_voxels;
+    snprintf(info->grid_name, sizeof info->grid_name, "%s", li.name);
+    static const vp_container_ops ops = {ls_distance, ls_gradient, ls_destroy};
+    vp_result r = vp_container_wrap(ctx, &ops, ls, info, out);
+    if (r != VP_OK) {
+        vpv_levelset_destroy(ls);
+        return r;
+    }
+    (*out)->levelset = ls;
+    return VP_OK;
+}
+
+/* Radius that gives about particle_count particles in volume vol. */
+static double estimate_radius(double vol, const vp_container_params *pp) {
+    double space = pp->space_per_particle > 0 ? pp->space_per_particle
+                                              : 4.18879020478639 / 0.74048; /* FCC spheres */
+    return cbrt(vol / ((double)pp->particle_count * space));
+}
+
+static double mesh_area(const vp_mesh *m) {
+    double a = 0;
+    for (size_t t = 0; t < m->ntris; t++) {
+        const double *p0 = m->verts + 3 * m->tris[3 * t], *p1 = m->verts + 3 * m->tris[3 * t + 1],
+                     *p2 = m->verts + 3 * m->tris[3 * t + 2];
+        double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        double v[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+        a += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    }
+    return a;
+}
+
+static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container_params *pp,
+                           vp_container **out) {
+    char err[1024];
+    vp_mesh *m = NULL;
+    vp_result r = vp_mesh_load(path, &m, err, sizeof err);
+    if (r != VP_OK) return vp_fail(ctx, r, "%s", err);
+    const char *name = base_name(path);
+    if ((m->boundary_edges || m->nonmanifold_edges) && !pp->allow_open) {
+        vp_fail(ctx, VP_ERR_OPEN_MESH,
+                "%s: the mesh is not closed: %zu boundary edges and %zu non-manifold edges "
+                "(after welding %zu vertices into %zu); fix it or pass --allow-open to "
+                "voxelize it anyway", name, m->boundary_edges, m->nonmanifold_edges,
+                m->nverts_raw, m->nverts);
+        vp_mesh_destroy(m);
+        return VP_ERR_OPEN_MESH;
+    }
+    double ext[3], diag = 0, bvol = 1;
+    for (int i = 0; i < 3; i++) {
+        ext[i] = m->bmax[i] - m->bmin[i];
+        diag += ext[i] * ext[i];
+        bvol *= ext[i];
+    }
+    diag = sqrt(diag);
+    if (!m->boundary_edges && !m->nonmanifold_edges &&
+        !(fabs(m->signed_volume) > 1e-9 * (bvol > 0 ? bvol : diag * diag * diag))) {
+        vp_mesh_destroy(m);
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
+                       "%s: the mesh encloses no volume (it is flat or degenerate)", name);
+    }
+    double vol = fabs(m->signed_volume);
+    double radius = pp->particle_radius;
+    if (!(radius > 0) && pp->particle_count > 0 && vol > 0)
+        radius = estimate_radius(vol, pp);
+    vp_container_info info;
+    memset(&info, 0, sizeof info);
+    info.kind = VP_CONTAINER_MESH;
+    double voxel = pp->voxel_size;
+    if (voxel > 0) {
+        snprintf(info.voxel_reason, sizeof info.voxel_reason, "set by --voxel-size");
+    } else if (radius > 0 && radius / 2 < diag / 200) {
+        voxel = radius / 2;
+        snprintf(info.voxel_reason, sizeof info.voxel_reason,
+                 "half the particle radius %g, so the wall is resolved at the particle scale",
+                 radius);
+    } else {
+        voxel = diag / 200;
+        snprintf(info.voxel_reason, sizeof info.voxel_reason,
+                 "1/200 of the mesh's bounding-box diagonal %g, to resolve the mesh (particles "
+                 "are larger than that)", diag);
+    }
+    if (!(voxel > 0) || !isfinite(voxel)) {
+        vp_mesh_destroy(m);
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: cannot choose a voxel size", name);
+    }
+    double in_band = radius > 0 ? ceil(1.25 * radius / voxel) + 2 : 3;
+    if (in_band < 3) in_band = 3;
+    double ex_band = 3;
+    /* memory guard: narrow-band voxels ~ area / voxel^2 * band width, at
+     * about 4 bytes each plus tree overhead (x3) */
+    double voxels = mesh_area(m) / (voxel * voxel) * (in_band + ex_band);
+    double bytes = voxels * 12.0;
+    uint64_t limit = vp_memory_limit(ctx);
+    if (bytes > (double)limit || ext[0] / voxel > 1e6 || ext[1] / voxel > 1e6 ||
+        ext[2] / voxel > 1e6) {
+        char a[32], b[32];
+        vp_format_bytes(bytes, a, sizeof a);
+        vp_format_bytes((double)limit, b, sizeof b);
+        vp_mesh_destroy(m);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "%s: voxelizing at voxel size %g needs an estimated %s, more than the "
+                       "limit of %s; use a larger --voxel-size or fewer, larger particles",
+                       name, voxel, a, b);
+    }
+    info.mesh_vertices = m->nverts;
+    info.mesh_vertices_raw = m->nverts_raw;
+    info.mesh_triangles = m->ntris;
+    info.boundary_edges = m->boundary_edges;
+    info.nonmanifold_edges = m->nonmanifold_edges;
+    info.mesh_volume = vol;
+    if (!vp_report_progress(ctx, 0.0, "voxelizing")) {
+        vp_mesh_destroy(m);
+        return vp_fail(ctx, VP_ERR_CANCELLED, "cancelled");
+    }
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, voxel, ex_band,
+                                    in_band, &ls, err, sizeof err);
+    vp_mesh_destroy(m);
+    if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
+    return finish_levelset(ctx, path, ls, &info, out);
+}
+
+static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_params *pp,
+                          vp_container **out) {
+    char err[1024];
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_read(path, pp->grid_name, &ls, err, sizeof err);
+    if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
+    vp_container_info info;
+    memset(&info, 0, sizeof info);
+    info.kind = VP_CONTAINER_LEVEL_SET;
+    snprintf(info.voxel_reason, sizeof info.voxel_reason, "from the level set in the file");
+    vpv_levelset_info li;
+    vpv_levelset_get_info(ls, &li);
+    double radius = pp->particle_radius;
+    if (!(radius > 0) && pp->particle_count > 0 && li.volume > 0)
+        radius = estimate_radius(li.volume, pp);
+    if (radius > 0) {
+        rc = vpv_levelset_ensure_interior(ls, 1.25 * radius + li.voxel_size, err, sizeof err);
+        if (rc != VP_OK) {
+            vpv_levelset_destroy(ls);
+            return vp_fail(ctx, (vp_result)rc, "%s", err);
+        }
+    }
+    return finish_levelset(ctx, path, ls, &info, out);
+}
+
+vp_result vp_container_load(vp_context *ctx, const char *path, const vp_container_params *params,
+                            vp_container **out) {
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "container: out is NULL");
+    *out = NULL;
+    if (!path || !*path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no container file given");
+    vp_container_params def;
+    if (!params) {
+        vp_container_params_init(&def);
+        params = &def;
+    }
+    if (params->voxel_size < 0 || !isfinite(params->voxel_size) || params->particle_radius < 0 ||
+        !isfinite(params->particle_radius))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "the voxel size and particle radius must be positive finite numbers");
+    FILE *f = fopen(path, "rb");
+    if (!f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
+    fclose(f);
+    vpv_init();
+    return looks_like_vdb(path) ? load_vdb(ctx, path, params, out)
+                                : load_mesh(ctx, path, params, out);
+}
+
+vp_result vp_container_save(vp_context *ctx, const vp_container *c, const char *path) {
+    if (!c || !c->levelset)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "only a mesh or level-set container can be saved as a level set");
+    vp_atomic a;
+    vp_result r = vp_atomic_begin(ctx, path, &a);
+    if (r != VP_OK) return r;
+    char err[1024];
+    vp_meta meta[1] = {{"creator", VP_META_STRING, "vdbpack " VP_VERSION_STRING, 0, 0}};
+    int rc = vpv_levelset_write(c->levelset, a.tmp_path, meta, 1, err, sizeof err);
+    if (rc != VP_OK) {
+        vp_atomic_abort(&a);
+        return vp_fail(ctx, (vp_result)rc, "%s: %s", path, err);
+    }
+    return vp_atomic_commit(ctx, &a);
+}

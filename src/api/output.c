@@ -1,0 +1,129 @@
+/* Output: VDB points (through the C++ layer), reading them back, file
+ * descriptions and the unit particle shape as OBJ. Every file is written to
+ * a temporary path and renamed, so no partial file is ever left. */
+#include "api/atomic.h"
+#include "core/context.h"
+#include "core/shape.h"
+#include "vdb/vdb_bridge.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vp_write_params_init(vp_write_params *p) {
+    if (!p) return;
+    memset(p, 0, sizeof *p);
+    p->points_per_voxel = 8;
+}
+
+vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
+                          const vp_write_params *params) {
+    if (!p) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no particles to write");
+    vp_write_params def;
+    if (!params) {
+        vp_write_params_init(&def);
+        params = &def;
+    }
+    vpv_init();
+    vp_atomic a;
+    vp_result r = vp_atomic_begin(ctx, path, &a);
+    if (r != VP_OK) return r;
+    char err[1024];
+    int rc = vpv_points_write(a.tmp_path, p, params, err, sizeof err);
+    if (rc != VP_OK) {
+        vp_atomic_abort(&a);
+        return vp_fail(ctx, (vp_result)rc, "%s: %s", path, err);
+    }
+    return vp_atomic_commit(ctx, &a);
+}
+
+vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out) {
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "out is NULL");
+    *out = NULL;
+    vpv_init();
+    char err[1024];
+    int rc = vpv_points_read(path, out, err, sizeof err);
+    return rc == VP_OK ? VP_OK : vp_fail(ctx, (vp_result)rc, "%s", err);
+}
+
+vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out) {
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "out is NULL");
+    *out = NULL;
+    vpv_init();
+    char err[1024];
+    int rc = vpv_describe_file(path, json, out, err, sizeof err);
+    return rc == VP_OK ? VP_OK : vp_fail(ctx, (vp_result)rc, "%s", err);
+}
+
+/* Unit sphere for instancing: an icosahedron subdivided twice, projected. */
+static int write_sphere_obj(FILE *f) {
+    const vp_polyhedron *ico = vp_shape_polyhedron(VP_SHAPE_ICOSAHEDRON);
+    if (!ico) return -1;
+    /* subdivide each face (triangles) into n^2 triangles on a barycentric
+     * grid, projecting every vertex to the sphere; vertices are written per
+     * face (the mesh is for rendering, welding is not needed) */
+    const int n = 4;
+    int base = 1;
+    for (int fi = 0; fi < ico->nfaces; fi++) {
+        const double *a = ico->verts[ico->faces[fi][0]], *b = ico->verts[ico->faces[fi][1]],
+                     *c = ico->verts[ico->faces[fi][2]];
+        for (int i = 0; i <= n; i++)
+            for (int j = 0; j <= n - i; j++) {
+                double u = (double)i / n, v = (double)j / n, w = 1 - u - v;
+                double p[3] = {w * a[0] + u * b[0] + v * c[0], w * a[1] + u * b[1] + v * c[1],
+                               w * a[2] + u * b[2] + v * c[2]};
+                double l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+                fprintf(f, "v %.9g %.9g %.9g\n", p[0] / l, p[1] / l, p[2] / l);
+            }
+        /* index of (i,j) within this face's block */
+#define IDX(i, j) (base + (i) * (n + 1) - ((i) * ((i) - 1)) / 2 + (j))
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n - i; j++) {
+                fprintf(f, "f %d %d %d\n", IDX(i, j), IDX(i + 1, j), IDX(i, j + 1));
+                if (j + 1 < n - i)
+                    fprintf(f, "f %d %d %d\n", IDX(i + 1, j), IDX(i + 1, j + 1), IDX(i, j + 1));
+            }
+#undef IDX
+        base += (n + 1) * (n + 2) / 2;
+    }
+    return 0;
+}
+
+vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path) {
+    if (!vp_shape_name(s)) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "unknown shape");
+    vp_atomic a;
+    vp_result r = vp_atomic_begin(ctx, path, &a);
+    if (r != VP_OK) return r;
+    FILE *f = fopen(a.tmp_path, "w");
+    if (!f) {
+        int e = errno;
+        vp_atomic_abort(&a);
+        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write (%s)", path, strerror(e));
+    }
+    fprintf(f, "# vdbpack %s unit %s: bounding-sphere radius 1, centroid at the origin.\n"
+               "# Instance it at each point scaled by pscale and rotated by orient.\n",
+            VP_VERSION_STRING, vp_shape_name(s));
+    fprintf(f, "o %s\n", vp_shape_name(s));
+    int bad = 0;
+    if (s == VP_SHAPE_SPHERE) {
+        bad = write_sphere_obj(f);
+    } else {
+        const vp_polyhedron *p = vp_shape_polyhedron(s);
+        for (int i = 0; i < p->nverts; i++)
+            fprintf(f, "v %.17g %.17g %.17g\n", p->verts[i][0], p->verts[i][1], p->verts[i][2]);
+        for (int i = 0; i < p->nfaces; i++) {
+            fprintf(f, "f");
+            for (int k = 0; k < p->face_size[i]; k++) fprintf(f, " %d", p->faces[i][k] + 1);
+            fprintf(f, "\n");
+        }
+    }
+    if (ferror(f)) bad = 1;
+    if (fclose(f) != 0) bad = 1;
+    if (bad) {
+        vp_atomic_abort(&a);
+        return vp_fail(ctx, VP_ERR_IO, "%s: writing failed", path);
+    }
+    return vp_atomic_commit(ctx, &a);
+}

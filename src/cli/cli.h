@@ -1,0 +1,25 @@
+/* Shared pieces of the command-line tool. */
+#ifndef VDBPACK_CLI_CLI_H
+#define VDBPACK_CLI_CLI_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+/* Prints "vdbpack: <message>" on stderr and returns status. */
+int vp_cli_die(int status, const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* `vdbpack pack ...` (argv as given to main). */
+int vp_cli_pack(int argc, char **argv);
+
+/* Strict number parsing: the whole text must be a finite number. */
+int vp_cli_parse_double(const char *s, double *out);
+int vp_cli_parse_u64(const char *s, uint64_t *out);
+/* "8G", "500M", "1024" (bytes). */
+int vp_cli_parse_size(const char *s, uint64_t *out);
+/* Writes s as a JSON string literal. */
+void vp_cli_json_string(FILE *f, const char *s);
+#endif

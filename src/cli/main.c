@@ -1,0 +1,148 @@
+/* vdbpack command-line tool: a thin layer over the public C API.
+ * Every failure ends in one line on stderr ("vdbpack: ...") and a non-zero
+ * exit status: 2 for usage errors, 1 for everything else. */
+#include "vdbpack/vdbpack.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli/cli.h"
+
+static const char *MAIN_HELP =
+    "vdbpack " VP_VERSION_STRING ": fill a closed container with non-overlapping particles\n"
+    "and write them as OpenVDB points.\n"
+    "\n"
+    "Usage:\n"
+    "  vdbpack pack CONTAINER -o OUT.vdb [options]   pack particles (vdbpack pack --help)\n"
+    "  vdbpack info FILE.vdb [--json]                describe a .vdb file\n"
+    "  vdbpack --version                             print the version\n"
+    "  vdbpack --help                                this text\n"
+    "\n"
+    "CONTAINER is a closed mesh (OBJ, PLY, STL, glTF, ... anything Assimp reads),\n"
+    "a .vdb holding a float level set, or an analytic shape: sphere:R or box:X,Y,Z\n"
+    "(both centred at the origin).\n";
+
+static const char *PACK_HELP =
+    "Usage: vdbpack pack CONTAINER -o OUT.vdb [options]\n"
+    "\n"
+    "Fills CONTAINER with particles on a lattice and writes a PointDataGrid \"points\"\n"
+    "(P, pscale = bounding-sphere radius, id, orient for solids, group pass1).\n"
+    "\n"
+    "Particles:\n"
+    "  --method lattice        packing method (lattice; more come later)\n"
+    "  --shape NAME            sphere (default), tetrahedron, cube, octahedron,\n"
+    "                          dodecahedron, icosahedron\n"
+    "  --lattice NAME          spheres: sc, bcc, fcc (default, ABC stacking), hcp (AB);\n"
+    "                          solids: densest (default, their densest known lattice)\n"
+    "  --radius R              bounding-sphere radius in world units\n"
+    "  --count N               instead of --radius: choose the radius that gives about N\n"
+    "  --fit inside|center     inside (default): every particle wholly inside (every\n"
+    "                          vertex for solids); center: the centre inside\n"
+    "  --offsets N             lattice offsets to try in the first stage (default 128,\n"
+    "                          32 with --rotate); 1 = no search\n"
+    "  --rotate                also search orientations of the lattice\n"
+    "  --rotations N           orientations to try with --rotate (default 24)\n"
+    "  --seed N                seed for the orientation search (default 1)\n"
+    "\n"
+    "Container:\n"
+    "  --voxel-size V          voxel size for meshes (default: automatic, see summary)\n"
+    "  --allow-open            voxelize open or non-manifold meshes anyway\n"
+    "  --grid NAME             level-set grid to use from a .vdb (default: the first)\n"
+    "\n"
+    "Output:\n"
+    "  -o, --output FILE       output .vdb (required)\n"
+    "  --precision fixed16|full  P as 16-bit fixed point (default) or 32-bit float\n"
+    "  --save-container FILE   also write the container level set as its own .vdb\n"
+    "  --shape-out FILE        also write the unit particle shape as OBJ (instancing)\n"
+    "\n"
+    "Run:\n"
+    "  --threads N             worker threads (default: all cores)\n"
+    "  --max-memory SIZE       refuse jobs estimated above SIZE (e.g. 8G; default: RAM)\n"
+    "  --json                  print the summary as JSON on stdout\n"
+    "  -q, --quiet             print nothing but errors\n"
+    "  -h, --help              this text\n";
+
+static const char *INFO_HELP =
+    "Usage: vdbpack info FILE.vdb [--json]\n"
+    "\n"
+    "Lists the grids of FILE.vdb (name, type, class, voxel size, active voxels,\n"
+    "bounds; for points: count, attributes with codecs, groups) and its metadata.\n"
+    "  --json      machine-readable output\n"
+    "  -h, --help  this text\n";
+
+int vp_cli_die(int status, const char *fmt, ...) {
+    va_list ap;
+    fputs("vdbpack: ", stderr);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    return status;
+}
+
+static int cmd_info(int argc, char **argv) {
+    const char *file = NULL;
+    int json = 0;
+    for (int i = 0; i < argc; i++) {
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+            fputs(INFO_HELP, stdout);
+            return 0;
+        } else if (!strcmp(argv[i], "--json")) {
+            json = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return vp_cli_die(2, "info: unknown option '%s' (see vdbpack info --help)", argv[i]);
+        } else if (!file) {
+            file = argv[i];
+        } else {
+            return vp_cli_die(2, "info: more than one file given ('%s')", argv[i]);
+        }
+    }
+    if (!file) return vp_cli_die(2, "info: no file given (see vdbpack info --help)");
+    vp_context *ctx = NULL;
+    if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
+    char *text = NULL;
+    vp_result r = vp_describe_file(ctx, file, json, &text);
+    int status = 0;
+    if (r != VP_OK) {
+        status = vp_cli_die(1, "%s", vp_context_message(ctx));
+    } else {
+        fputs(text, stdout);
+        size_t n = strlen(text);
+        if (n && text[n - 1] != '\n') fputc('\n', stdout);
+    }
+    free(text);
+    vp_context_destroy(ctx);
+    return status;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fputs(MAIN_HELP, stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "--version") || !strcmp(cmd, "-V")) {
+        printf("vdbpack %s\n", VP_VERSION_STRING);
+        return 0;
+    }
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        fputs(MAIN_HELP, stdout);
+        return 0;
+    }
+    if (!strcmp(cmd, "pack")) {
+        for (int i = 2; i < argc; i++)
+            if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+                fputs(PACK_HELP, stdout);
+                return 0;
+            }
+        return vp_cli_pack(argc, argv);
+    }
+    if (!strcmp(cmd, "info")) return cmd_info(argc - 2, argv + 2);
+    return vp_cli_die(2, "unknown command '%s' (see vdbpack --help)", cmd);
+}

@@ -1,0 +1,20 @@
+/* The container as packers see it: a signed distance (negative inside),
+ * its gradient, bounds and volume, behind callbacks. Packers include only
+ * this; OpenVDB level sets and analytic shapes both sit behind it. */
+#ifndef VDBPACK_CORE_CONTAINER_H
+#define VDBPACK_CORE_CONTAINER_H
+
+#include "vdbpack/vdbpack.h"
+
+struct vp_container {
+    vp_container_ops ops;
+    void *user;
+    vp_container_info info;
+    void *levelset;  /* the vpv_levelset behind a level-set container, else NULL */
+};
+
+/* Wraps ops/user into a new container with the given info (copied).
+ * On failure user is NOT freed. */
+vp_result vp_container_wrap(vp_context *ctx, const vp_container_ops *ops, void *user,
+                            const vp_container_info *info, vp_container **out);
+#endif

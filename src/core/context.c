@@ -1,0 +1,95 @@
+/* Context, result names and small process-level helpers. */
+#include "core/context.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+const char *vp_result_name(vp_result r) {
+    switch (r) {
+    case VP_OK: return "VP_OK";
+    case VP_ERR_INVALID_ARGUMENT: return "VP_ERR_INVALID_ARGUMENT";
+    case VP_ERR_IO: return "VP_ERR_IO";
+    case VP_ERR_FORMAT: return "VP_ERR_FORMAT";
+    case VP_ERR_OPEN_MESH: return "VP_ERR_OPEN_MESH";
+    case VP_ERR_NOT_LEVEL_SET: return "VP_ERR_NOT_LEVEL_SET";
+    case VP_ERR_BAD_CONTAINER: return "VP_ERR_BAD_CONTAINER";
+    case VP_ERR_NO_FIT: return "VP_ERR_NO_FIT";
+    case VP_ERR_OUT_OF_MEMORY: return "VP_ERR_OUT_OF_MEMORY";
+    case VP_ERR_CANCELLED: return "VP_ERR_CANCELLED";
+    case VP_ERR_INTERNAL: return "VP_ERR_INTERNAL";
+    }
+    return "VP_ERR_UNKNOWN";
+}
+
+vp_result vp_context_create(vp_context **out) {
+    if (!out) return VP_ERR_INVALID_ARGUMENT;
+    *out = calloc(1, sizeof(vp_context));
+    return *out ? VP_OK : VP_ERR_OUT_OF_MEMORY;
+}
+
+void vp_context_destroy(vp_context *ctx) { free(ctx); }
+
+const char *vp_context_message(const vp_context *ctx) { return ctx ? ctx->message : ""; }
+
+void vp_context_set_threads(vp_context *ctx, int threads) {
+    if (ctx) ctx->threads = threads < 0 ? 0 : threads;
+}
+
+int vp_context_threads(const vp_context *ctx) { return vp_threads_for(ctx); }
+
+void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user) {
+    if (!ctx) return;
+    ctx->progress = fn;
+    ctx->progress_user = user;
+}
+
+void vp_context_set_max_memory(vp_context *ctx, uint64_t bytes) {
+    if (ctx) ctx->max_memory = bytes;
+}
+
+uint64_t vp_context_max_memory(const vp_context *ctx) { return vp_memory_limit(ctx); }
+
+vp_result vp_fail(vp_context *ctx, vp_result r, const char *fmt, ...) {
+    if (ctx) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
+        va_end(ap);
+    }
+    return r;
+}
+
+int vp_threads_for(const vp_context *ctx) {
+    if (ctx && ctx->threads > 0) return ctx->threads;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : (n > 256 ? 256 : (int)n);
+}
+
+int vp_report_progress(vp_context *ctx, double fraction, const char *stage) {
+    if (!ctx || !ctx->progress) return 1;
+    return ctx->progress(ctx->progress_user, fraction, stage);
+}
+
+uint64_t vp_memory_limit(const vp_context *ctx) {
+    if (ctx && ctx->max_memory) return ctx->max_memory;
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || size <= 0) return (uint64_t)1 << 34;
+    return (uint64_t)pages * (uint64_t)size;
+}
+
+void vp_format_bytes(double bytes, char *out, size_t outlen) {
+    const char *units[] = {"B", "KB", "MB", "GB", "TB", "PB", "EB"};
+    int u = 0;
+    while (bytes >= 1000.0 && u < 6) { bytes /= 1000.0; u++; }
+    snprintf(out, outlen, u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
+}
+
+double vp_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

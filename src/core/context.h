@@ -1,0 +1,32 @@
+/* The library context (opaque in the public API): last error message,
+ * thread count, progress callback and memory limit. */
+#ifndef VDBPACK_CORE_CONTEXT_H
+#define VDBPACK_CORE_CONTEXT_H
+
+#include "vdbpack/vdbpack.h"
+
+struct vp_context {
+    char message[1024];
+    int threads;              /* 0 = all cores */
+    vp_progress_fn progress;
+    void *progress_user;
+    uint64_t max_memory;      /* 0 = physical memory */
+};
+
+/* Records a failure on ctx (printf-style message) and returns r. */
+vp_result vp_fail(vp_context *ctx, vp_result r, const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* Threads to use for ctx (resolves 0 to the number of online cores). */
+int vp_threads_for(const vp_context *ctx);
+/* Reports progress; returns 0 when the caller asked to cancel. */
+int vp_report_progress(vp_context *ctx, double fraction, const char *stage);
+/* Memory limit in bytes: max_memory, else physical memory. */
+uint64_t vp_memory_limit(const vp_context *ctx);
+/* "1.5 GB"-style text for a byte count. */
+void vp_format_bytes(double bytes, char *out, size_t outlen);
+/* Monotonic seconds. */
+double vp_seconds(void);
+#endif

@@ -1,0 +1,721 @@
+/* Lattice packer: fills a container with one lattice (spheres on SC, BCC,
+ * FCC, HCP; solids on their densest lattices) and searches the lattice
+ * offset (and, on request, orientation) that fits the most particles.
+ *
+ * Search: every lattice point is classified once at offset 0 by its
+ * distance to the wall. The distance is 1-Lipschitz, so a point whose
+ * distance clears the fit threshold by more than the largest offset m is
+ * in (or out) for every offset we try; only the shell of "ambiguous" points
+ * is re-tested per offset. That makes each candidate placement cost the
+ * shell, not the whole volume, so hundreds of placements take well under a
+ * second. The final placement is regenerated and tested exactly. */
+#include "core/container.h"
+#include "core/context.h"
+#include "core/geom.h"
+#include "core/lattice_basis.h"
+#include "core/parallel.h"
+#include "core/shape.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct setup {
+    const vp_container *c;
+    vp_fit fit;
+    const vp_polyhedron *poly; /* NULL: sphere */
+    double r;                  /* bounding-sphere radius */
+    double q[4];               /* global rotation */
+    double b[3][3];            /* world lattice vectors b[k] */
+    double binv[3][3];         /* inverse of the matrix with columns b[k] */
+    int nsites;
+    double sites[2][3];        /* world site offsets */
+    int npv;
+    double pv[VP_POLY_MAX_VERTS][3]; /* world vertex offsets of one particle */
+    double lo[3], hi[3];       /* box that holds every admissible centre */
+    double thr_in;             /* d <= thr_in - m: in for every offset */
+    double thr_out;            /* d >  thr_out + m: out for every offset */
+} setup;
+
+/* --- small helpers ------------------------------------------------------ */
+
+static uint64_t splitmix64(uint64_t *s) {
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+static double rand01(uint64_t *s) { return (double)(splitmix64(s) >> 11) * 0x1.0p-53; }
+
+static void random_quat(uint64_t *s, double q[4]) {
+    /* Shoemake's uniform random rotation. */
+    double u1 = rand01(s), u2 = rand01(s) * 2 * M_PI, u3 = rand01(s) * 2 * M_PI;
+    double a = sqrt(1 - u1), b = sqrt(u1);
+    q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
+}
+
+static int invert3(const double m[3][3], double inv[3][3]) {
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(fabs(det) > 0)) return -1;
+    double id = 1.0 / det;
+    inv[0][0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) * id;
+    inv[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * id;
+    inv[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * id;
+    inv[1][0] = (m[1][2] * m[2][0] - m[1][0] * m[2][2]) * id;
+    inv[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * id;
+    inv[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * id;
+    inv[2][0] = (m[1][0] * m[2][1] - m[1][1] * m[2][0]) * id;
+    inv[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * id;
+    inv[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * id;
+    return 0;
+}
+
+static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis *lb,
+                        const vp_polyhedron *poly, vp_fit fit, double r, const double q[4]) {
+    memset(s, 0, sizeof *s);
+    s->c = c;
+    s->fit = fit;
+    s->poly = poly;
+    s->r = r;
+    memcpy(s->q, q, sizeof s->q);
+    double m[3][3];
+    for (int k = 0; k < 3; k++) {
+        double v[3] = {lb->a[k][0] * r, lb->a[k][1] * r, lb->a[k][2] * r};
+        vp_quat_rotate(q, v, s->b[k]);
+        for (int i = 0; i < 3; i++) m[i][k] = s->b[k][i];
+    }
+    invert3(m, s->binv);
+    s->nsites = lb->nsites;
+    for (int k = 0; k < lb->nsites; k++) {
+        double v[3] = {lb->sites[k][0] * r, lb->sites[k][1] * r, lb->sites[k][2] * r};
+        vp_quat_rotate(q, v, s->sites[k]);
+    }
+    double shrink = 0.0;
+    if (poly) {
+        s->npv = poly->nverts;
+        for (int k = 0; k < poly->nverts; k++) {
+            double v[3] = {poly->verts[k][0] * r, poly->verts[k][1] * r, poly->verts[k][2] * r};
+            vp_quat_rotate(q, v, s->pv[k]);
+        }
+        if (fit == VP_FIT_INSIDE) shrink = poly->inradius * r;
+    } else if (fit == VP_FIT_INSIDE) {
+        shrink = r;
+    }
+    for (int i = 0; i < 3; i++) {
+        s->lo[i] = c->info.bmin[i] + shrink;
+        s->hi[i] = c->info.bmax[i] - shrink;
+    }
+    if (fit == VP_FIT_CENTER) {
+        s->thr_in = 0.0;
+        s->thr_out = 0.0;
+    } else if (!poly) {
+        s->thr_in = -r;
+        s->thr_out = -r;
+    } else {
+        s->thr_in = -r;   /* circumsphere inside: wholly inside */
+        s->thr_out = 0.0; /* centroid outside: not inside */
+    }
+}
+
+static inline double dist(const setup *s, const double x[3]) {
+    return s->c->ops.distance(s->c->user, x);
+}
+
+/* Exact fit test of a particle centred at x. */
+static int fits(const setup *s, const double x[3]) {
+    double d = dist(s, x);
+    if (d <= s->thr_in) return 1;
+    if (d > s->thr_out || !s->poly || s->fit == VP_FIT_CENTER) return 0;
+    for (int k = 0; k < s->npv; k++) {
+        double y[3] = {x[0] + s->pv[k][0], x[1] + s->pv[k][1], x[2] + s->pv[k][2]};
+        if (!(dist(s, y) <= 0.0)) return 0;
+    }
+    return 1;
+}
+
+/* Integer ranges of lattice coordinate k over box [lo,hi] at offset o. */
+static void coord_range(const setup *s, const double o[3], const double lo[3],
+                        const double hi[3], int k, long *kmin, long *kmax) {
+    double mn = HUGE_VAL, mx = -HUGE_VAL;
+    for (int corner = 0; corner < 8; corner++) {
+        double p[3];
+        for (int i = 0; i < 3; i++) p[i] = ((corner >> i) & 1 ? hi[i] : lo[i]) - o[i];
+        double t = s->binv[k][0] * p[0] + s->binv[k][1] * p[1] + s->binv[k][2] * p[2];
+        if (t < mn) mn = t;
+        if (t > mx) mx = t;
+    }
+    *kmin = (long)floor(mn) - 1;
+    *kmax = (long)ceil(mx) + 1;
+}
+
+/* Visits every lattice point inside [lo,hi] whose third coordinate is n3,
+ * in a fixed order. Returns 0 from the callback to stop. */
+typedef int (*visit_fn)(void *user, const double x[3]);
+
+static int visit_slab(const setup *s, const double o[3], const double lo[3], const double hi[3],
+                      long n3, long n2min, long n2max, visit_fn fn, void *user) {
+    for (int site = 0; site < s->nsites; site++) {
+        for (long n2 = n2min; n2 <= n2max; n2++) {
+            double base[3];
+            for (int i = 0; i < 3; i++)
+                base[i] = o[i] + s->sites[site][i] + (double)n2 * s->b[1][i] +
+                          (double)n3 * s->b[2][i];
+            double tmin = -HUGE_VAL, tmax = HUGE_VAL;
+            int empty = 0;
+            for (int i = 0; i < 3 && !empty; i++) {
+                double bi = s->b[0][i];
+                if (fabs(bi) < 1e-300) {
+                    if (base[i] < lo[i] || base[i] > hi[i]) empty = 1;
+                    continue;
+                }
+                double t0 = (lo[i] - base[i]) / bi, t1 = (hi[i] - base[i]) / bi;
+                if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
+                if (t0 > tmin) tmin = t0;
+                if (t1 < tmax) tmax = t1;
+            }
+            if (empty || tmin > tmax) continue;
+            long a = (long)ceil(tmin), bnd = (long)floor(tmax);
+            for (long n1 = a; n1 <= bnd; n1++) {
+                double x[3];
+                for (int i = 0; i < 3; i++) x[i] = base[i] + (double)n1 * s->b[0][i];
+                if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] ||
+                    x[2] < lo[2] || x[2] > hi[2])
+                    continue;
+                if (!fn(user, x)) return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+/* --- classification at offset 0 ------------------------------------------ */
+
+typedef struct point_list {
+    double *x; /* 3*n */
+    size_t n, cap;
+    int oom;
+} point_list;
+
+static void list_push(point_list *l, const double x[3]) {
+    if (l->oom) return;
+    if (l->n == l->cap) {
+        size_t nc = l->cap ? l->cap * 2 : 1024;
+        double *nx = realloc(l->x, nc * 3 * sizeof(double));
+        if (!nx) { l->oom = 1; return; }
+        l->x = nx;
+        l->cap = nc;
+    }
+    memcpy(l->x + 3 * l->n, x, 3 * sizeof(double));
+    l->n++;
+}
+
+typedef struct classify_job {
+    const setup *s;
+    double m;            /* largest offset norm */
+    double lo[3], hi[3]; /* box grown by m */
+    long n3min, n2min, n2max;
+    size_t *in_count;    /* per slab */
+    point_list *amb;     /* per slab */
+} classify_job;
+
+typedef struct classify_slab {
+    const classify_job *job;
+    size_t in;
+    point_list *amb;
+} classify_slab;
+
+static int classify_visit(void *user, const double x[3]) {
+    classify_slab *cs = user;
+    const setup *s = cs->job->s;
+    double m = cs->job->m;
+    double d = dist(s, x);
+    if (d <= s->thr_in - m) cs->in++;
+    else if (d <= s->thr_out + m) list_push(cs->amb, x);
+    return 1;
+}
+
+static void classify_task(void *user, size_t i) {
+    classify_job *j = user;
+    classify_slab cs = {j, 0, &j->amb[i]};
+    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi, j->n3min + (long)i, j->n2min,
+               j->n2max, classify_visit, &cs);
+    j->in_count[i] = cs.in;
+}
+
+typedef struct classified {
+    size_t always_in;
+    double *amb;   /* 3*namb */
+    size_t namb;
+    double m;
+} classified;
+
+static int classify(const setup *s, double m, int threads, classified *out) {
+    classify_job j;
+    memset(&j, 0, sizeof j);
+    j.s = s;
+    j.m = m;
+    for (int i = 0; i < 3; i++) {
+        j.lo[i] = s->lo[i] - m;
+        j.hi[i] = s->hi[i] + m;
+    }
+    long n3min, n3max, n2min, n2max;
+    double zero[3] = {0, 0, 0};
+    coord_range(s, zero, j.lo, j.hi, 2, &n3min, &n3max);
+    coord_range(s, zero, j.lo, j.hi, 1, &n2min, &n2max);
+    size_t nslabs = (size_t)(n3max - n3min + 1);
+    j.n3min = n3min;
+    j.n2min = n2min;
+    j.n2max = n2max;
+    j.in_count = calloc(nslabs, sizeof(size_t));
+    j.amb = calloc(nslabs, sizeof(point_list));
+    if (!j.in_count || !j.amb) {
+        free(j.in_count);
+        free(j.amb);
+        return -1;
+    }
+    vp_parallel_for(threads, nslabs, classify_task, &j);
+    size_t total = 0, in = 0;
+    int oom = 0;
+    for (size_t i = 0; i < nslabs; i++) {
+        total += j.amb[i].n;
+        in += j.in_count[i];
+        oom |= j.amb[i].oom;
+    }
+    double *all = oom ? NULL : malloc((total ? total : 1) * 3 * sizeof(double));
+    if (all) {
+        size_t at = 0;
+        for (size_t i = 0; i < nslabs; i++) {
+            if (j.amb[i].n) memcpy(all + 3 * at, j.amb[i].x, j.amb[i].n * 3 * sizeof(double));
+            at += j.amb[i].n;
+        }
+    }
+    for (size_t i = 0; i < nslabs; i++) free(j.amb[i].x);
+    free(j.amb);
+    free(j.in_count);
+    if (!all) return -1;
+    out->always_in = in;
+    out->amb = all;
+    out->namb = total;
+    out->m = m;
+    return 0;
+}
+
+/* --- offsets ------------------------------------------------------------- */
+
+/* World offset of lattice coordinates u, reduced to a short representative
+ * modulo the lattice (so that |offset| stays near the covering radius). */
+static void offset_world(const setup *s, const double u[3], double o[3]) {
+    double best = HUGE_VAL;
+    for (int a = -1; a <= 1; a++)
+        for (int b = -1; b <= 1; b++)
+            for (int c = -1; c <= 1; c++) {
+                double uu[3] = {u[0] - floor(u[0] + 0.5) + a, u[1] - floor(u[1] + 0.5) + b,
+                                u[2] - floor(u[2] + 0.5) + c};
+                double v[3];
+                for (int i = 0; i < 3; i++)
+                    v[i] = uu[0] * s->b[0][i] + uu[1] * s->b[1][i] + uu[2] * s->b[2][i];
+                double n = vp_dot3(v, v);
+                if (n < best) {
+                    best = n;
+                    memcpy(o, v, sizeof v);
+                }
+            }
+}
+
+static double covering_bound(const setup *s) {
+    /* Largest reduced offset over a dense quasi-random probe of the cell. */
+    double m = 0.0;
+    for (int i = 0; i < 4096; i++) {
+        double u[3] = {fmod(0.5 + i * 0.8191725133961645, 1.0),
+                       fmod(0.5 + i * 0.6710436067037893, 1.0),
+                       fmod(0.5 + i * 0.5497004779019703, 1.0)};
+        double o[3];
+        offset_world(s, u, o);
+        double n = vp_norm3(o);
+        if (n > m) m = n;
+    }
+    return m * 1.05;
+}
+
+typedef struct eval_job {
+    const setup *s;
+    const classified *cl;
+    const double (*u)[3]; /* candidates in lattice coordinates */
+    size_t *counts;
+} eval_job;
+
+static size_t count_at(const setup *s, const classified *cl, const double u[3]) {
+    double o[3];
+    offset_world(s, u, o);
+    if (vp_norm3(o) > cl->m) return 0; /* outside what the classification covers */
+    size_t n = cl->always_in;
+    for (size_t i = 0; i < cl->namb; i++) {
+        const double *x = cl->amb + 3 * i;
+        double y[3] = {x[0] + o[0], x[1] + o[1], x[2] + o[2]};
+        if (y[0] < s->lo[0] || y[0] > s->hi[0] || y[1] < s->lo[1] || y[1] > s->hi[1] ||
+            y[2] < s->lo[2] || y[2] > s->hi[2])
+            continue;
+        n += (size_t)fits(s, y);
+    }
+    return n;
+}
+
+static void eval_task(void *user, size_t i) {
+    eval_job *j = user;
+    j->counts[i] = count_at(j->s, j->cl, j->u[i]);
+}
+
+/* --- the search ---------------------------------------------------------- */
+
+typedef struct placement {
+    double q[4];
+    double u[3];
+    size_t count;
+} placement;
+
+typedef struct search_cfg {
+    const vp_container *c;
+    const vp_lattice_basis *lb;
+    const vp_polyhedron *poly;
+    vp_fit fit;
+    int offsets;   /* stage-one offsets per orientation */
+    int rotations; /* orientations (1 = identity only) */
+    int refine;    /* pattern-search refinement */
+    uint64_t seed;
+    int threads;
+    vp_context *ctx;
+} search_cfg;
+
+typedef struct search_stats {
+    int offsets_tried;
+    int rotations_tried;
+} search_stats;
+
+/* Evaluates n candidates (u) for one orientation in parallel. */
+static int eval_many(const setup *s, const classified *cl, const double (*u)[3], size_t n,
+                     size_t *counts, int threads) {
+    eval_job j = {s, cl, u, counts};
+    vp_parallel_for(threads, n, eval_task, &j);
+    return 0;
+}
+
+static vp_result search(const search_cfg *cfg, double r, placement *best, search_stats *st) {
+    uint64_t rng = cfg->seed ^ 0x5EEDull;
+    memset(best, 0, sizeof *best);
+    best->q[3] = 1.0;
+    int have = 0;
+    int nrot = cfg->rotations < 1 ? 1 : cfg->rotations;
+    int noff = cfg->offsets < 1 ? 1 : cfg->offsets;
+    double (*u)[3] = malloc(sizeof(double[3]) * (size_t)(noff > 8 ? noff : 8));
+    size_t *counts = malloc(sizeof(size_t) * (size_t)(noff > 8 ? noff : 8));
+    if (!u || !counts) {
+        free(u);
+        free(counts);
+        return vp_fail(cfg->ctx, VP_ERR_OUT_OF_MEMORY, "lattice: out of memory");
+    }
+    /* stage-one offsets: a Kronecker (R3) sequence, the first one 0 */
+    for (int i = 0; i < noff; i++) {
+        u[i][0] = fmod(i * 0.8191725133961645, 1.0);
+        u[i][1] = fmod(i * 0.6710436067037893, 1.0);
+        u[i][2] = fmod(i * 0.5497004779019703, 1.0);
+    }
+    classified best_cl = {0};
+    setup best_s;
+    for (int rot = 0; rot < nrot; rot++) {
+        double q[4] = {0, 0, 0, 1};
+        if (rot > 0) random_quat(&rng, q);
+        setup s;
+        setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->fit, r, q);
+        classified cl;
+        double m = noff > 1 ? covering_bound(&s) : 0.0;
+        if (cfg->c->info.voxel_size > 0) m += 0.05 * cfg->c->info.voxel_size;
+        if (classify(&s, m, cfg->threads, &cl) != 0) {
+            free(u);
+            free(counts);
+            free(best_cl.amb);
+            return vp_fail(cfg->ctx, VP_ERR_OUT_OF_MEMORY, "lattice: out of memory");
+        }
+        eval_many(&s, &cl, (const double(*)[3])u, (size_t)noff, counts, cfg->threads);
+        st->offsets_tried += noff;
+        st->rotations_tried++;
+        size_t bi = 0;
+        for (int i = 1; i < noff; i++)
+            if (counts[i] > counts[bi]) bi = (size_t)i;
+        if (!have || counts[bi] > best->count) {
+            have = 1;
+            memcpy(best->q, q, sizeof best->q);
+            memcpy(best->u, u[bi], sizeof best->u);
+            best->count = counts[bi];
+            free(best_cl.amb);
+            best_cl = cl;
+            best_s = s;
+        } else {
+            free(cl.amb);
+        }
+        if (!vp_report_progress(cfg->ctx, 0.8 * (rot + 1) / nrot, "placement search")) {
+            free(u);
+            free(counts);
+            free(best_cl.amb);
+            return vp_fail(cfg->ctx, VP_ERR_CANCELLED, "cancelled");
+        }
+    }
+    /* refinement: pattern search around the best placement */
+    if (cfg->refine && noff > 1) {
+        double step = 0.5 / cbrt((double)noff);
+        int evals = 0;
+        while (step > 0.004 && evals < 400) {
+            double cand[6][3];
+            size_t cc[6];
+            for (int k = 0; k < 6; k++) {
+                memcpy(cand[k], best->u, sizeof cand[k]);
+                cand[k][k / 2] += (k & 1) ? -step : step;
+            }
+            eval_many(&best_s, &best_cl, (const double(*)[3])cand, 6, cc, cfg->threads);
+            evals += 6;
+            st->offsets_tried += 6;
+            int bk = -1;
+            for (int k = 0; k < 6; k++)
+                if (cc[k] > best->count && (bk < 0 || cc[k] > cc[bk])) bk = k;
+            if (bk >= 0) {
+                memcpy(best->u, cand[bk], sizeof best->u);
+                best->count = cc[bk];
+            } else {
+                step *= 0.5;
+            }
+        }
+    }
+    free(best_cl.amb);
+    free(u);
+    free(counts);
+    return VP_OK;
+}
+
+/* --- final generation ------------------------------------------------------ */
+
+typedef struct gen_job {
+    const setup *s;
+    double o[3];
+    long n3min, n2min, n2max;
+    point_list *out; /* per slab */
+} gen_job;
+
+typedef struct gen_slab {
+    const setup *s;
+    point_list *l;
+} gen_slab;
+
+static int gen_visit(void *user, const double x[3]) {
+    gen_slab *g = user;
+    if (fits(g->s, x)) list_push(g->l, x);
+    return 1;
+}
+
+static void gen_task(void *user, size_t i) {
+    gen_job *j = user;
+    gen_slab g = {j->s, &j->out[i]};
+    visit_slab(j->s, j->o, j->s->lo, j->s->hi, j->n3min + (long)i, j->n2min, j->n2max, gen_visit,
+               &g);
+}
+
+static vp_result generate(vp_context *ctx, const setup *s, const double u[3], int threads,
+                          vp_particles **out, double o_out[3]) {
+    gen_job j;
+    memset(&j, 0, sizeof j);
+    j.s = s;
+    offset_world(s, u, j.o);
+    memcpy(o_out, j.o, sizeof j.o);
+    long n3max, n2max;
+    coord_range(s, j.o, s->lo, s->hi, 2, &j.n3min, &n3max);
+    coord_range(s, j.o, s->lo, s->hi, 1, &j.n2min, &n2max);
+    j.n2max = n2max;
+    size_t nslabs = (size_t)(n3max - j.n3min + 1);
+    j.out = calloc(nslabs, sizeof(point_list));
+    if (!j.out) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "lattice: out of memory");
+    vp_parallel_for(threads, nslabs, gen_task, &j);
+    size_t total = 0;
+    int oom = 0;
+    for (size_t i = 0; i < nslabs; i++) {
+        total += j.out[i].n;
+        oom |= j.out[i].oom;
+    }
+    vp_particles *p = NULL;
+    vp_result r = oom ? vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "lattice: out of memory")
+                      : vp_particles_create(ctx, total ? total : 1, &p);
+    if (r == VP_OK) {
+        size_t at = 0;
+        for (size_t i = 0; i < nslabs; i++) {
+            if (j.out[i].n)
+                memcpy(p->positions + 3 * at, j.out[i].x, j.out[i].n * 3 * sizeof(double));
+            at += j.out[i].n;
+        }
+        p->count = total;
+    }
+    for (size_t i = 0; i < nslabs; i++) free(j.out[i].x);
+    free(j.out);
+    *out = p;
+    return r;
+}
+
+/* --- public entry ---------------------------------------------------------- */
+
+void vp_lattice_params_init(vp_lattice_params *p) {
+    if (!p) return;
+    memset(p, 0, sizeof *p);
+    p->shape = VP_SHAPE_SPHERE;
+    p->lattice = VP_LATTICE_DEFAULT;
+    p->fit = VP_FIT_INSIDE;
+    p->seed = 1;
+}
+
+/* Estimated particles for radius r (from the lattice fraction). */
+static double estimate_count(const vp_container *c, const vp_lattice_basis *lb, double unit_vol,
+                             double r) {
+    return c->info.volume * lb->fraction / (unit_vol * r * r * r);
+}
+
+vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_lattice_params *params,
+                          vp_particles **out, vp_lattice_report *report) {
+    double t0 = vp_seconds();
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "lattice: out is NULL");
+    *out = NULL;
+    if (!c) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "lattice: no container");
+    vp_lattice_params def;
+    if (!params) {
+        vp_lattice_params_init(&def);
+        params = &def;
+    }
+    vp_lattice_basis lb;
+    if (vp_lattice_basis_get(params->shape, params->lattice, &lb) != 0)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "--lattice %s is for spheres; a %s packs on its densest lattice",
+                       vp_lattice_name(params->lattice), vp_shape_name(params->shape));
+    const vp_polyhedron *poly = vp_shape_polyhedron(params->shape);
+    double unit_vol = vp_shape_unit_volume(params->shape);
+    if (!(c->info.volume > 0))
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "the container has no inside (volume 0)");
+    double r = params->radius;
+    int count_mode = 0;
+    if (r == 0.0 && params->count > 0) {
+        count_mode = 1;
+        r = cbrt(c->info.volume * lb.fraction / ((double)params->count * unit_vol));
+    } else if (!(r > 0) || !isfinite(r)) {
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "the radius must be a positive finite number (or give --count N > 0)");
+    }
+    double extent = HUGE_VAL;
+    for (int i = 0; i < 3; i++) {
+        double e = c->info.bmax[i] - c->info.bmin[i];
+        if (e < extent) extent = e;
+    }
+    if (!count_mode && params->fit == VP_FIT_INSIDE && 2 * r * (poly ? poly->inradius : 1.0) > extent)
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "radius %g is too large: no particle fits in the container (its smallest "
+                       "extent is %g)", r, extent);
+    if (params->fit == VP_FIT_INSIDE && count_mode && r > c->info.interior_band)
+        r = c->info.interior_band;
+    if (params->fit == VP_FIT_INSIDE && r > c->info.interior_band * (1 + 1e-9))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "radius %g exceeds the container's interior band %g (distances deeper "
+                       "inside are unknown); reload the container for this radius", r,
+                       c->info.interior_band);
+
+    /* memory and work guard, before anything large is allocated */
+    double est = estimate_count(c, &lb, unit_vol, r);
+    double bytes = est * 40.0 + est * 40.0; /* positions + output attributes */
+    uint64_t limit = vp_memory_limit(ctx);
+    if (bytes > (double)limit || est > 4e9) {
+        char a[32], b[32];
+        vp_format_bytes(bytes, a, sizeof a);
+        vp_format_bytes((double)limit, b, sizeof b);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "about %.3g particles of radius %g need an estimated %s, more than the "
+                       "limit of %s (--max-memory)", est, r, a, b);
+    }
+
+    search_cfg cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.c = c;
+    cfg.lb = &lb;
+    cfg.poly = poly;
+    cfg.fit = params->fit;
+    cfg.seed = params->seed;
+    cfg.threads = vp_threads_for(ctx);
+    cfg.ctx = ctx;
+    cfg.refine = 1;
+    cfg.rotations = params->rotate ? (params->rotations > 0 ? params->rotations : 24) : 1;
+    if (params->offsets > 0) {
+        cfg.offsets = params->offsets;
+        cfg.refine = params->offsets > 1;
+    } else {
+        cfg.offsets = params->rotate ? 32 : 128;
+    }
+
+    vp_lattice_report rep;
+    memset(&rep, 0, sizeof rep);
+    placement best;
+    search_stats st = {0, 0};
+    vp_result res = search(&cfg, r, &best, &st);
+    if (res != VP_OK) return res;
+    rep.radius_iterations = 1;
+    if (count_mode) {
+        /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest */
+        double target = (double)params->count;
+        double best_r = r, best_err = fabs((double)best.count - target);
+        placement best_p = best;
+        for (int it = 0; it < 16 && best_err > 0.01 * target; it++) {
+            double ratio = best.count ? (double)best.count / target : 0.125;
+            double nr = r * cbrt(ratio);
+            if (params->fit == VP_FIT_INSIDE && nr > c->info.interior_band)
+                nr = c->info.interior_band;
+            if (nr == r) break;
+            r = nr;
+            if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
+            res = search(&cfg, r, &best, &st);
+            if (res != VP_OK) return res;
+            rep.radius_iterations++;
+            double e = fabs((double)best.count - target);
+            if (e < best_err) {
+                best_err = e;
+                best_r = r;
+                best_p = best;
+            }
+        }
+        r = best_r;
+        best = best_p;
+    }
+    setup s;
+    setup_build(&s, c, &lb, poly, params->fit, r, best.q);
+    vp_particles *p = NULL;
+    double o[3];
+    res = generate(ctx, &s, best.u, cfg.threads, &p, o);
+    if (res != VP_OK) return res;
+    if (p->count == 0) {
+        vp_particles_destroy(p);
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "no particle of radius %g fits in the container with --fit %s", r,
+                       params->fit == VP_FIT_INSIDE ? "inside" : "center");
+    }
+    p->uniform_radius = (float)r;
+    p->shape = params->shape;
+    if (poly) {
+        p->has_orient = 1;
+        for (int i = 0; i < 4; i++) p->uniform_orient[i] = (float)best.q[i];
+    }
+    rep.radius = r;
+    rep.count = p->count;
+    rep.offsets_tried = st.offsets_tried;
+    rep.rotations_tried = st.rotations_tried;
+    memcpy(rep.offset, o, sizeof rep.offset);
+    memcpy(rep.rotation, best.q, sizeof rep.rotation);
+    rep.lattice_fraction = lb.fraction;
+    rep.particle_volume = vp_particles_volume(p);
+    rep.seconds = vp_seconds() - t0;
+    vp_report_progress(ctx, 1.0, "done");
+    if (report) *report = rep;
+    *out = p;
+    return VP_OK;
+}

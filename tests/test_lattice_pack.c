@@ -1,0 +1,206 @@
+/* Lattice packer on exact analytic containers: counts where they are known,
+ * no particle outside, no overlaps, count mode, thread independence and
+ * refusals of impossible requests. */
+#include "vp_test.h"
+
+#include <string.h>
+
+#include "core/geom.h"
+#include "core/shape.h"
+#include "vdbpack/vdbpack.h"
+
+static vp_context *ctx;
+
+static vp_particles *pack(const vp_container *c, vp_shape shape, vp_lattice lat, vp_fit fit,
+                          double r, size_t count, vp_lattice_report *rep) {
+    vp_lattice_params p;
+    vp_lattice_params_init(&p);
+    p.shape = shape;
+    p.lattice = lat;
+    p.fit = fit;
+    p.radius = r;
+    p.count = count;
+    vp_particles *out = NULL;
+    vp_result res = vp_pack_lattice(ctx, c, &p, &out, rep);
+    if (res != VP_OK) fprintf(stderr, "pack failed: %s\n", vp_context_message(ctx));
+    ASSERT_EQ_INT(res, VP_OK);
+    return out;
+}
+
+/* Smallest centre distance over all pairs (grid-free O(n^2) for small n). */
+static double min_pair_distance(const vp_particles *p) {
+    double best = HUGE_VAL;
+    for (size_t i = 0; i < p->count; i++)
+        for (size_t j = i + 1; j < p->count; j++) {
+            const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
+            double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+            double n = vp_norm3(d);
+            if (n < best) best = n;
+        }
+    return best;
+}
+
+static void test_sc_in_box_finds_aligned_placement(void) {
+    /* L = 2rk + 0.2r: at most k per axis fit wholly inside; the search must
+     * find a placement that reaches k^3. */
+    const double r = 1.0;
+    const int k = 6;
+    double L = 2 * r * k + 0.2 * r;
+    double lo[3] = {-L / 2, -L / 2, -L / 2}, hi[3] = {L / 2, L / 2, L / 2};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    vp_lattice_report rep;
+    vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_SC, VP_FIT_INSIDE, r, 0, &rep);
+    ASSERT_EQ_INT(p->count, k * k * k);
+    ASSERT_GE(rep.offsets_tried, 2);
+    for (size_t i = 0; i < p->count; i++)
+        for (int a = 0; a < 3; a++) {
+            ASSERT_GE(p->positions[3 * i + a], lo[a] + r - 1e-12);
+            ASSERT_LE(p->positions[3 * i + a], hi[a] - r + 1e-12);
+        }
+    ASSERT_NEAR(min_pair_distance(p), 2 * r, 1e-9);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
+static void test_every_sphere_lattice_inside_and_touching(void) {
+    double c0[3] = {0.3, -0.2, 0.1};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 8.0, &c), VP_OK);
+    vp_lattice lats[] = {VP_LATTICE_SC, VP_LATTICE_BCC, VP_LATTICE_FCC, VP_LATTICE_HCP};
+    for (int li = 0; li < 4; li++) {
+        vp_lattice_report rep;
+        vp_particles *p = pack(c, VP_SHAPE_SPHERE, lats[li], VP_FIT_INSIDE, 1.0, 0, &rep);
+        ASSERT_GE(p->count, 10);
+        for (size_t i = 0; i < p->count; i++)
+            ASSERT_LE(vp_container_distance(c, p->positions + 3 * i), -1.0 + 1e-9);
+        ASSERT_NEAR(min_pair_distance(p), 2.0, 1e-9);
+        double frac = vp_particles_volume(p) / (4.0 / 3.0 * M_PI * 512.0);
+        ASSERT_LE(frac, rep.lattice_fraction);
+        ASSERT_NEAR(rep.particle_volume, vp_particles_volume(p), 1e-9);
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+}
+
+static void test_fit_center_admits_more_than_inside(void) {
+    double c0[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 6.0, &c), VP_OK);
+    vp_particles *in = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 1.0, 0, NULL);
+    vp_particles *ce = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_CENTER, 1.0, 0, NULL);
+    ASSERT_GE(ce->count, in->count + 1);
+    int beyond = 0;
+    for (size_t i = 0; i < ce->count; i++) {
+        double d = vp_container_distance(c, ce->positions + 3 * i);
+        ASSERT_LE(d, 1e-12);
+        beyond += d > -1.0;
+    }
+    ASSERT_GE(beyond, 1); /* some centres sit closer to the wall than r */
+    vp_particles_destroy(in);
+    vp_particles_destroy(ce);
+    vp_container_destroy(c);
+}
+
+static void test_solids_every_vertex_inside_and_no_overlap(void) {
+    double c0[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 6.0, &c), VP_OK);
+    for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; s++) {
+        vp_particles *p = pack(c, (vp_shape)s, VP_LATTICE_DEFAULT, VP_FIT_INSIDE, 1.0, 0, NULL);
+        const vp_polyhedron *poly = vp_shape_polyhedron((vp_shape)s);
+        ASSERT_TRUE(poly != NULL);
+        ASSERT_EQ_INT(p->has_orient, 1);
+        double q[4] = {p->uniform_orient[0], p->uniform_orient[1], p->uniform_orient[2],
+                       p->uniform_orient[3]};
+        ASSERT_GE(p->count, 5);
+        for (size_t i = 0; i < p->count; i++)
+            for (int v = 0; v < poly->nverts; v++) {
+                double w[3], x[3];
+                vp_quat_rotate(q, poly->verts[v], w);
+                for (int a = 0; a < 3; a++) x[a] = p->positions[3 * i + a] + w[a];
+                ASSERT_LE(vp_container_distance(c, x), 1e-9);
+            }
+        int close = 0;
+        for (size_t i = 0; i < p->count; i++)
+            for (size_t j = i + 1; j < p->count; j++) {
+                const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
+                double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+                if (vp_norm3(d) >= 2.0) continue;
+                close++;
+                double sep = vp_poly_separation(poly, 1.0, q, a, poly, 1.0, q, b);
+                ASSERT_GE(sep, -1e-9);
+            }
+        ASSERT_GE(close, 1); /* the check above saw neighbours */
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+}
+
+static void test_count_mode_within_two_percent(void) {
+    double c0[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 1.0, &c), VP_OK);
+    size_t wants[] = {500, 3000};
+    for (int i = 0; i < 2; i++) {
+        vp_lattice_report rep;
+        vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, wants[i], &rep);
+        ASSERT_LE(fabs((double)p->count - (double)wants[i]), 0.02 * (double)wants[i]);
+        ASSERT_NEAR(p->uniform_radius, rep.radius, 1e-6 * rep.radius);
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+}
+
+static void test_same_output_for_any_thread_count(void) {
+    double c0[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 10.0, &c), VP_OK);
+    vp_context_set_threads(ctx, 1);
+    vp_particles *a = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_HCP, VP_FIT_INSIDE, 1.0, 0, NULL);
+    vp_context_set_threads(ctx, 3);
+    vp_particles *b = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_HCP, VP_FIT_INSIDE, 1.0, 0, NULL);
+    vp_context_set_threads(ctx, 0);
+    ASSERT_EQ_INT(a->count, b->count);
+    ASSERT_TRUE(memcmp(a->positions, b->positions, a->count * 3 * sizeof(double)) == 0);
+    vp_particles_destroy(a);
+    vp_particles_destroy(b);
+    vp_container_destroy(c);
+}
+
+static void test_refusals(void) {
+    double c0[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 1.0, &c), VP_OK);
+    vp_lattice_params p;
+    vp_particles *out = NULL;
+    vp_lattice_params_init(&p);
+    p.radius = -1;
+    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &p, &out, NULL), VP_ERR_INVALID_ARGUMENT);
+    p.radius = NAN;
+    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &p, &out, NULL), VP_ERR_INVALID_ARGUMENT);
+    p.radius = 2.0; /* larger than the container */
+    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &p, &out, NULL), VP_ERR_NO_FIT);
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "too large") != NULL);
+    p.radius = 1e-5; /* ~10^15 particles: refused before allocating */
+    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &p, &out, NULL), VP_ERR_OUT_OF_MEMORY);
+    ASSERT_TRUE(out == NULL);
+    p.radius = 0.1;
+    p.shape = VP_SHAPE_CUBE;
+    p.lattice = VP_LATTICE_BCC; /* sphere lattice for a solid */
+    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &p, &out, NULL), VP_ERR_INVALID_ARGUMENT);
+    vp_container_destroy(c);
+}
+
+int main(void) {
+    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    RUN_TEST(test_sc_in_box_finds_aligned_placement);
+    RUN_TEST(test_every_sphere_lattice_inside_and_touching);
+    RUN_TEST(test_fit_center_admits_more_than_inside);
+    RUN_TEST(test_solids_every_vertex_inside_and_no_overlap);
+    RUN_TEST(test_count_mode_within_two_percent);
+    RUN_TEST(test_same_output_for_any_thread_count);
+    RUN_TEST(test_refusals);
+    vp_context_destroy(ctx);
+    return 0;
+}
