@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <math.h>
 
-static int vp_test_failures = 0;
 
 #define ASSERT_TRUE(c) do { if (!(c)) { \
     fprintf(stderr, "%s:%d: assertion failed: %s\n", __FILE__, __LINE__, #c); \
