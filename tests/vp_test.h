@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <math.h>
 
+/* Failure counter for tests that keep going after a failed check. */
+static int vp_test_failures __attribute__((unused)) = 0;
+
 
 #define ASSERT_TRUE(c) do { if (!(c)) { \
     fprintf(stderr, "%s:%d: assertion failed: %s\n", __FILE__, __LINE__, #c); \
