@@ -3,6 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-./build/vdbpack pack vdb_samples/bean.obj --count 20000 -o bean_packed.vdb \
-  --save-container bean_container.vdb "$@"
-./build/vdbpack info bean_packed.vdb | head -n 20
+./build/vdbpack pack vdb_samples/peanut.obj --count 20000 -o peanut_packed.vdb \
+  --save-container peanut_container.vdb "$@"
+./build/vdbpack info peanut_packed.vdb | head -n 20

@@ -1,0 +1,230 @@
+/* Runs a mesh import in a child process so that a bug in Assimp (an endless
+ * loop, a crash, an abort() from one of its assertions, a runaway
+ * allocation) on hostile input becomes one clear error instead of a hung or
+ * dead vdbpack. The child imports and welds, then streams the finished
+ * vp_mesh back through a pipe; the parent enforces a deadline and reports
+ * how the child ended. */
+#include "mesh/isolate.h"
+
+#include <errno.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+/* Fixed-size header the child sends first; arrays follow. */
+typedef struct wire_header {
+    int32_t result;
+    uint32_t errlen;
+    uint64_t nverts, nverts_raw, ntris, boundary, nonmanifold, zero_area, components;
+    double signed_volume, bmin[3], bmax[3];
+} wire_header;
+
+static int write_all(int fd, const void *buf, size_t n)
+{
+    const char *p = buf;
+    while (n) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* 0 on success, 1 on EOF before n bytes, -1 on error, 2 on timeout. */
+static int read_all(int fd, void *buf, size_t n, double deadline)
+{
+    char *p = buf;
+    while (n) {
+        double left = deadline - now_s();
+        if (left <= 0)
+            return 2;
+        struct pollfd pfd = {fd, POLLIN, 0};
+        int pr = poll(&pfd, 1, (int)(left * 1000.0) + 1);
+        if (pr < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        if (pr == 0)
+            return 2;
+        ssize_t r = read(fd, p, n);
+        if (r < 0) {
+            if (errno == EINTR || errno == EAGAIN)
+                continue;
+            return -1;
+        }
+        if (r == 0)
+            return 1;
+        p += r;
+        n -= (size_t)r;
+    }
+    return 0;
+}
+
+double vp_mesh_import_timeout(size_t file_bytes)
+{
+    const char *env = getenv("VDBPACK_IMPORT_TIMEOUT");
+    if (env && *env) {
+        char *end = NULL;
+        double v = strtod(env, &end);
+        if (end && *end == '\0' && v > 0)
+            return v;
+    }
+    /* Generous: Assimp reads well over 10 MB/s of OBJ on this class of
+     * machine, so 2 s per MB is a hang, not a slow parse. */
+    return 60.0 + 2.0 * (double)file_bytes / 1e6;
+}
+
+static void child_main(int fd, vp_mesh_import_fn fn, const void *arg)
+{
+#if !defined(__SANITIZE_ADDRESS__) && !defined(VP_NO_IMPORT_RLIMIT)
+    /* Bound a runaway allocation to the machine's memory, not beyond it:
+     * the parent reports the child's death as a failed import. */
+    long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && psz > 0) {
+        struct rlimit rl;
+        rl.rlim_cur = rl.rlim_max = (rlim_t)pages * (rlim_t)psz;
+        setrlimit(RLIMIT_AS, &rl);
+    }
+#endif
+    signal(SIGPIPE, SIG_DFL);
+    char err[512] = "";
+    vp_mesh *m = NULL;
+    vp_result r = fn(arg, &m, err, sizeof err);
+    wire_header h;
+    memset(&h, 0, sizeof h);
+    h.result = (int32_t)r;
+    h.errlen = (uint32_t)strlen(err);
+    if (r == VP_OK && m) {
+        h.nverts = m->nverts;
+        h.nverts_raw = m->nverts_raw;
+        h.ntris = m->ntris;
+        h.boundary = m->boundary_edges;
+        h.nonmanifold = m->nonmanifold_edges;
+        h.zero_area = m->zero_area_tris;
+        h.components = m->components;
+        h.signed_volume = m->signed_volume;
+        memcpy(h.bmin, m->bmin, sizeof h.bmin);
+        memcpy(h.bmax, m->bmax, sizeof h.bmax);
+    }
+    int bad = write_all(fd, &h, sizeof h) || write_all(fd, err, h.errlen);
+    if (!bad && r == VP_OK && m)
+        bad = write_all(fd, m->verts, 3 * m->nverts * sizeof *m->verts) ||
+              write_all(fd, m->tris, 3 * m->ntris * sizeof *m->tris);
+    _exit(bad ? 3 : 0);
+}
+
+vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const char *name,
+                                  double timeout, vp_mesh **out, char *err, size_t errlen)
+{
+    *out = NULL;
+    int fds[2];
+    if (pipe(fds) != 0) {
+        snprintf(err, errlen, "%s: cannot start the mesh reader (pipe: %s)", name,
+                 strerror(errno));
+        return VP_ERR_IO;
+    }
+    fflush(NULL); /* nothing buffered may be written twice */
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        snprintf(err, errlen, "%s: cannot start the mesh reader (fork: %s)", name,
+                 strerror(errno));
+        return VP_ERR_OUT_OF_MEMORY;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_main(fds[1], fn, arg);
+    }
+    close(fds[1]);
+
+    double deadline = now_s() + timeout;
+    vp_result res = VP_OK;
+    vp_mesh *m = NULL;
+    wire_header h;
+    int rr = read_all(fds[0], &h, sizeof h, deadline);
+    if (rr == 0) {
+        char msg[512];
+        size_t el = h.errlen < sizeof msg ? h.errlen : sizeof msg - 1;
+        rr = read_all(fds[0], msg, el, deadline);
+        msg[rr == 0 ? el : 0] = '\0';
+        if (rr == 0 && h.result != VP_OK) {
+            res = (vp_result)h.result;
+            snprintf(err, errlen, "%s", msg);
+        } else if (rr == 0) {
+            m = calloc(1, sizeof *m);
+            if (m && h.nverts <= SIZE_MAX / 24 && h.ntris <= SIZE_MAX / 12) {
+                m->verts = malloc(3 * h.nverts * sizeof *m->verts + 1);
+                m->tris = malloc(3 * h.ntris * sizeof *m->tris + 1);
+            }
+            if (!m || !m->verts || !m->tris) {
+                res = VP_ERR_OUT_OF_MEMORY;
+                snprintf(err, errlen, "%s: out of memory", name);
+            } else {
+                m->nverts = h.nverts;
+                m->nverts_raw = h.nverts_raw;
+                m->ntris = h.ntris;
+                m->boundary_edges = h.boundary;
+                m->nonmanifold_edges = h.nonmanifold;
+                m->zero_area_tris = h.zero_area;
+                m->components = h.components;
+                m->signed_volume = h.signed_volume;
+                memcpy(m->bmin, h.bmin, sizeof h.bmin);
+                memcpy(m->bmax, h.bmax, sizeof h.bmax);
+                rr = read_all(fds[0], m->verts, 3 * h.nverts * sizeof *m->verts, deadline);
+                if (rr == 0)
+                    rr = read_all(fds[0], m->tris, 3 * h.ntris * sizeof *m->tris, deadline);
+            }
+        }
+    }
+    close(fds[0]);
+    int status = 0;
+    if (rr == 2) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        snprintf(err, errlen,
+                 "%s: the mesh reader (Assimp) did not finish within %.0f s; the file is "
+                 "probably malformed (set VDBPACK_IMPORT_TIMEOUT to allow longer)",
+                 name, timeout);
+        res = VP_ERR_FORMAT;
+    } else {
+        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        if (rr != 0 && res == VP_OK) {
+            if (WIFSIGNALED(status))
+                snprintf(err, errlen, "%s: the mesh reader (Assimp) crashed on this file "
+                                      "(signal %d); the file is probably malformed",
+                         name, WTERMSIG(status));
+            else
+                snprintf(err, errlen, "%s: the mesh reader (Assimp) failed on this file "
+                                      "(exit status %d); the file is probably malformed",
+                         name, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+            res = VP_ERR_FORMAT;
+        }
+    }
+    if (res != VP_OK) {
+        vp_mesh_destroy(m);
+        m = NULL;
+    }
+    *out = m;
+    return res;
+}

@@ -1,0 +1,821 @@
+/* Mesh input through Assimp's C API (see mesh.h).
+ *
+ * Files are imported with NO Assimp post-processing (flags 0); this file
+ * does the rest itself:
+ *  - node transforms are applied to each mesh instance (what
+ *    aiProcess_PreTransformVertices does; an instance with a mirroring
+ *    transform has its winding reversed so it stays outward);
+ *  - polygons are triangulated by ear clipping in the plane of their Newell
+ *    normal (aiProcess_Triangulate's job), with a fan as the fallback;
+ *  - points and lines are skipped (what aiProcess_SortByPType would help
+ *    with);
+ *  - vertices are welded by exact position (not JoinIdenticalVertices, which
+ *    would also compare normals and UVs), degenerate triangles are counted,
+ *    and non-finite coordinates are refused (not FindDegenerates or
+ *    FindInvalidData, which alter geometry silently).
+ * Why not let Assimp post-process: the packaged Assimp 5.2.5 has internal
+ * assertions enabled that abort() the process (TriangulateProcess asserts
+ * on meshes whose mPrimitiveTypes claims polygons it has not, which its OFF
+ * and OBJ readers make from malformed input), and aiApplyPostProcessing's
+ * failure path releases an already-freed scene. Malformed input must give
+ * an error, never a crash.
+ *
+ * Assimp is built here with single-precision ai_real, so coordinates arrive
+ * as float and are widened to double (transforms are applied in double);
+ * two distinct decimal values that round to the same float are welded. No
+ * Assimp logger is attached, so Assimp prints nothing. */
+#include "mesh/mesh.h"
+#include "mesh/isolate.h"
+
+#include <assimp/cimport.h>
+#include <assimp/scene.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+
+static void set_err(char *err, size_t errlen, const char *fmt, const char *name,
+                    const char *detail)
+{
+    if (!err || errlen == 0)
+        return;
+    snprintf(err, errlen, fmt, name, detail);
+    /* One line: replace any newline in Assimp's message. */
+    for (char *c = err; *c; ++c)
+        if (*c == '\n' || *c == '\r')
+            *c = ' ';
+}
+
+/* ------------------------------------------------------------------ */
+/* Welding: open-addressing hash on the bit pattern of (x, y, z).     */
+
+static uint64_t mix64(uint64_t h)
+{
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ULL;
+    h ^= h >> 33;
+    return h;
+}
+
+static uint64_t hash_pos(const double p[3])
+{
+    uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (int k = 0; k < 3; ++k) {
+        uint64_t b;
+        memcpy(&b, &p[k], sizeof b);
+        h = mix64(h ^ b) + 0x9e3779b97f4a7c15ULL * (uint64_t)(k + 1);
+    }
+    return mix64(h);
+}
+
+/* ------------------------------------------------------------------ */
+/* Edges, sorted by (a, b) with a < b.                                 */
+
+typedef struct edge_rec {
+    uint64_t key; /* (uint64)a << 32 | b */
+    uint32_t tri;
+} edge_rec;
+
+static int cmp_edge(const void *pa, const void *pb)
+{
+    const edge_rec *a = pa, *b = pb;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return a->tri < b->tri ? -1 : (a->tri > b->tri);
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
+{
+    a = uf_find(parent, a);
+    b = uf_find(parent, b);
+    if (a != b) {
+        if (a < b)
+            parent[b] = a;
+        else
+            parent[a] = b;
+    }
+}
+
+/* Topology, bbox and volume of m (verts and tris already set). Returns
+ * VP_OK or VP_ERR_OUT_OF_MEMORY. */
+static vp_result compute_topology(vp_mesh *m)
+{
+    size_t nt = m->ntris, ne = 3 * nt;
+    for (int k = 0; k < 3; ++k) {
+        m->bmin[k] = HUGE_VAL;
+        m->bmax[k] = -HUGE_VAL;
+    }
+    for (size_t i = 0; i < m->nverts; ++i)
+        for (int k = 0; k < 3; ++k) {
+            double v = m->verts[3 * i + k];
+            if (v < m->bmin[k]) m->bmin[k] = v;
+            if (v > m->bmax[k]) m->bmax[k] = v;
+        }
+
+    double c[3];
+    for (int k = 0; k < 3; ++k)
+        c[k] = 0.5 * (m->bmin[k] + m->bmax[k]);
+    double vol = 0.0;
+    for (size_t t = 0; t < nt; ++t) {
+        const double *p0 = m->verts + 3 * (size_t)m->tris[3 * t];
+        const double *p1 = m->verts + 3 * (size_t)m->tris[3 * t + 1];
+        const double *p2 = m->verts + 3 * (size_t)m->tris[3 * t + 2];
+        double a[3], b[3], d[3];
+        for (int k = 0; k < 3; ++k) {
+            a[k] = p0[k] - c[k];
+            b[k] = p1[k] - c[k];
+            d[k] = p2[k] - c[k];
+        }
+        vol += a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
+               a[2] * (b[0] * d[1] - b[1] * d[0]);
+        /* Geometrically zero-area triangle (collinear corners). */
+        double e1[3], e2[3], e3[3];
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = p1[k] - p0[k];
+            e2[k] = p2[k] - p0[k];
+            e3[k] = p2[k] - p1[k];
+        }
+        double cx = e1[1] * e2[2] - e1[2] * e2[1];
+        double cy = e1[2] * e2[0] - e1[0] * e2[2];
+        double cz = e1[0] * e2[1] - e1[1] * e2[0];
+        double area2 = sqrt(cx * cx + cy * cy + cz * cz);
+        double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+        double l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+        double l3 = e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2];
+        double lmax = l1 > l2 ? l1 : l2;
+        if (l3 > lmax) lmax = l3;
+        if (area2 <= 1e-12 * lmax)
+            m->zero_area_tris++;
+    }
+    m->signed_volume = vol / 6.0;
+
+    edge_rec *edges = malloc((ne ? ne : 1) * sizeof *edges);
+    uint32_t *parent = malloc((nt ? nt : 1) * sizeof *parent);
+    if (!edges || !parent) {
+        free(edges);
+        free(parent);
+        return VP_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t t = 0; t < nt; ++t) {
+        parent[t] = (uint32_t)t;
+        for (int j = 0; j < 3; ++j) {
+            uint32_t a = m->tris[3 * t + j], b = m->tris[3 * t + (j + 1) % 3];
+            if (a > b) {
+                uint32_t s = a;
+                a = b;
+                b = s;
+            }
+            edges[3 * t + j].key = ((uint64_t)a << 32) | b;
+            edges[3 * t + j].tri = (uint32_t)t;
+        }
+    }
+    qsort(edges, ne, sizeof *edges, cmp_edge);
+    for (size_t i = 0; i < ne;) {
+        size_t j = i + 1;
+        while (j < ne && edges[j].key == edges[i].key) {
+            uf_union(parent, edges[i].tri, edges[j].tri);
+            ++j;
+        }
+        if (j - i == 1)
+            m->boundary_edges++;
+        else if (j - i >= 3)
+            m->nonmanifold_edges++;
+        i = j;
+    }
+    m->components = 0;
+    for (size_t t = 0; t < nt; ++t)
+        if (uf_find(parent, (uint32_t)t) == t)
+            m->components++;
+    free(edges);
+    free(parent);
+    return VP_OK;
+}
+
+/* ------------------------------------------------------------------ */
+/* Scene to welded mesh.                                               */
+
+/* ------------------------------------------------------------------ */
+/* Scene to welded mesh.                                               */
+
+static const char *nonfinite_name(double v)
+{
+    if (isnan(v)) return "nan";
+    return v > 0 ? "inf" : "-inf";
+}
+
+/* A mesh placed in the world by a node: Assimp's aiProcess_PreTransformVertices,
+ * done here (see the comment at the top). */
+typedef struct instance {
+    const struct aiMesh *mesh;
+    double m[12]; /* rows of the 3x4 affine part */
+    int flip;     /* negative determinant: reverse the winding */
+} instance;
+
+typedef struct inst_list {
+    instance *v;
+    size_t n, cap;
+    int overflow;
+} inst_list;
+
+#define VP_MESH_MAX_DEPTH 256
+#define VP_MESH_MAX_INSTANCES (1u << 20)
+
+static void mat_mul(const double a[12], const double b[12], double out[12])
+{
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) {
+            double s = a[4 * r + 0] * b[c] + a[4 * r + 1] * b[4 + c] + a[4 * r + 2] * b[8 + c];
+            if (c == 3)
+                s += a[4 * r + 3];
+            out[4 * r + c] = s;
+        }
+    }
+}
+
+static void walk_nodes(const struct aiScene *sc, const struct aiNode *nd, const double parent[12],
+                       int depth, inst_list *L)
+{
+    if (!nd || depth > VP_MESH_MAX_DEPTH || L->overflow)
+        return;
+    const struct aiMatrix4x4 *t = &nd->mTransformation;
+    double local[12] = {t->a1, t->a2, t->a3, t->a4, t->b1, t->b2, t->b3, t->b4,
+                        t->c1, t->c2, t->c3, t->c4};
+    double world[12];
+    mat_mul(parent, local, world);
+    if (nd->mMeshes) {
+        for (unsigned i = 0; i < nd->mNumMeshes; ++i) {
+            unsigned mi = nd->mMeshes[i];
+            if (mi >= sc->mNumMeshes || !sc->mMeshes[mi])
+                continue;
+            if (L->n == L->cap) {
+                size_t nc = L->cap ? 2 * L->cap : 16;
+                if (nc > VP_MESH_MAX_INSTANCES) {
+                    L->overflow = 1;
+                    return;
+                }
+                instance *nv = realloc(L->v, nc * sizeof *nv);
+                if (!nv) {
+                    L->overflow = 1;
+                    return;
+                }
+                L->v = nv;
+                L->cap = nc;
+            }
+            instance *in = &L->v[L->n++];
+            in->mesh = sc->mMeshes[mi];
+            memcpy(in->m, world, sizeof world);
+            double det = world[0] * (world[5] * world[10] - world[6] * world[9]) -
+                         world[1] * (world[4] * world[10] - world[6] * world[8]) +
+                         world[2] * (world[4] * world[9] - world[5] * world[8]);
+            in->flip = det < 0;
+        }
+    }
+    if (nd->mChildren)
+        for (unsigned i = 0; i < nd->mNumChildren; ++i)
+            walk_nodes(sc, nd->mChildren[i], world, depth + 1, L);
+}
+
+/* Faces this mesh contributes (>= 3 corners, all indices valid). */
+static int face_usable(const struct aiMesh *am, const struct aiFace *fc)
+{
+    if (fc->mNumIndices < 3 || !fc->mIndices)
+        return 0;
+    for (unsigned k = 0; k < fc->mNumIndices; ++k)
+        if (fc->mIndices[k] >= am->mNumVertices)
+            return 0;
+    return 1;
+}
+
+static int mesh_usable(const struct aiMesh *am)
+{
+    return am && am->mVertices && am->mFaces && am->mNumFaces > 0 && am->mNumVertices > 0;
+}
+
+/* Ear clipping of one polygon (n corners, positions pos[idx[k]]), projected
+ * on the plane of its Newell normal. Writes n-2 triangles of corner numbers
+ * (0..n-1) to out. Falls back to a fan for what it cannot clip (degenerate
+ * or self-intersecting polygons) and for very large polygons. work: 3n
+ * doubles + n ints of scratch. */
+#define VP_MESH_EARCLIP_MAX 1024
+
+static double cross2(const double *a, const double *b, const double *c)
+{
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+static void triangulate_polygon(const double *pos, const unsigned *idx, unsigned n,
+                                uint32_t *out, double *xy, unsigned *ring)
+{
+    size_t w = 0;
+    if (n > VP_MESH_EARCLIP_MAX)
+        goto fan_all;
+    double nn[3] = {0, 0, 0};
+    for (unsigned k = 0; k < n; ++k) {
+        const double *a = pos + 3 * (size_t)idx[k], *b = pos + 3 * (size_t)idx[(k + 1) % n];
+        nn[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        nn[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        nn[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    int ax = 0;
+    if (fabs(nn[1]) > fabs(nn[ax])) ax = 1;
+    if (fabs(nn[2]) > fabs(nn[ax])) ax = 2;
+    if (!(fabs(nn[ax]) > 0))
+        goto fan_all;
+    int u = (ax + 1) % 3, v = (ax + 2) % 3;
+    if (nn[ax] < 0) { int s = u; u = v; v = s; } /* keep the polygon counter-clockwise */
+    for (unsigned k = 0; k < n; ++k) {
+        xy[2 * k] = pos[3 * (size_t)idx[k] + u];
+        xy[2 * k + 1] = pos[3 * (size_t)idx[k] + v];
+        ring[k] = k;
+    }
+    unsigned m = n;
+    unsigned start = 0;
+    while (m > 3) {
+        int clipped = 0;
+        for (unsigned t = 0; t < m; ++t) {
+            unsigned i = (start + t) % m;
+            unsigned ip = ring[(i + m - 1) % m], ic = ring[i], in = ring[(i + 1) % m];
+            const double *a = xy + 2 * ip, *b = xy + 2 * ic, *c = xy + 2 * in;
+            if (!(cross2(a, b, c) > 0))
+                continue;
+            int ear = 1;
+            for (unsigned j = 0; j < m && ear; ++j) {
+                unsigned q = ring[j];
+                if (q == ip || q == ic || q == in)
+                    continue;
+                const double *p = xy + 2 * q;
+                if ((p[0] == a[0] && p[1] == a[1]) || (p[0] == b[0] && p[1] == b[1]) ||
+                    (p[0] == c[0] && p[1] == c[1]))
+                    continue;
+                if (cross2(a, b, p) >= 0 && cross2(b, c, p) >= 0 && cross2(c, a, p) >= 0)
+                    ear = 0;
+            }
+            if (!ear)
+                continue;
+            out[w++] = ip;
+            out[w++] = ic;
+            out[w++] = in;
+            memmove(ring + i, ring + i + 1, (m - i - 1) * sizeof *ring);
+            --m;
+            start = i % m;
+            clipped = 1;
+            break;
+        }
+        if (!clipped)
+            break;
+    }
+    /* The rest (a triangle, or what could not be clipped) as a fan. */
+    for (unsigned k = 1; k + 1 < m; ++k) {
+        out[w++] = ring[0];
+        out[w++] = ring[k];
+        out[w++] = ring[k + 1];
+    }
+    return;
+fan_all:
+    for (unsigned k = 1; k + 1 < n; ++k) {
+        out[w++] = 0;
+        out[w++] = k;
+        out[w++] = k + 1;
+    }
+}
+
+static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out,
+                            char *err, size_t errlen)
+{
+    vp_result res = VP_OK;
+    inst_list L = {0};
+    double *raw = NULL;     /* world positions of the current instance */
+    uint32_t *wid = NULL;   /* raw vertex -> welded id */
+    uint32_t *table = NULL; /* hash slots: welded id + 1, 0 = empty */
+    double *wpos = NULL;    /* welded positions, in order of creation */
+    uint32_t *tris = NULL;
+    uint32_t *remap = NULL;
+    uint32_t *ptris = NULL; /* polygon triangulation scratch */
+    double *pxy = NULL;
+    unsigned *pring = NULL;
+    unsigned maxpoly = 0;
+    vp_mesh *m = NULL;
+    size_t nraw = 0, ntri_max = 0, maxverts = 0;
+    *out = NULL;
+
+    if (!sc || !sc->mMeshes || sc->mNumMeshes == 0) {
+        set_err(err, errlen, "%s: %s", name, "no triangles in the file (no mesh in the scene)");
+        return VP_ERR_FORMAT;
+    }
+    static const double identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    if (sc->mRootNode) {
+        walk_nodes(sc, sc->mRootNode, identity, 0, &L);
+    } else {
+        for (unsigned i = 0; i < sc->mNumMeshes && !L.overflow; ++i) {
+            if (!sc->mMeshes[i])
+                continue;
+            if (L.n == L.cap) {
+                size_t nc = L.cap ? 2 * L.cap : 16;
+                instance *nv = realloc(L.v, nc * sizeof *nv);
+                if (!nv) { L.overflow = 1; break; }
+                L.v = nv;
+                L.cap = nc;
+            }
+            L.v[L.n].mesh = sc->mMeshes[i];
+            memcpy(L.v[L.n].m, identity, sizeof identity);
+            L.v[L.n++].flip = 0;
+        }
+    }
+    if (L.overflow) {
+        set_err(err, errlen, "%s: %s", name, "too many mesh instances in the scene");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+
+    /* Count vertices and triangles (polygons of n corners give n - 2). */
+    for (size_t i = 0; i < L.n; ++i) {
+        const struct aiMesh *am = L.v[i].mesh;
+        if (!mesh_usable(am))
+            continue;
+        size_t t = 0;
+        for (unsigned f = 0; f < am->mNumFaces; ++f)
+            if (face_usable(am, &am->mFaces[f])) {
+                t += am->mFaces[f].mNumIndices - 2;
+                if (am->mFaces[f].mNumIndices > maxpoly)
+                    maxpoly = am->mFaces[f].mNumIndices;
+            }
+        if (t == 0)
+            continue;
+        nraw += am->mNumVertices;
+        ntri_max += t;
+        if (am->mNumVertices > maxverts)
+            maxverts = am->mNumVertices;
+    }
+    if (ntri_max == 0) {
+        set_err(err, errlen, "%s: %s", name,
+                "no triangles in the file (no face with 3 or more corners)");
+        res = VP_ERR_FORMAT;
+        goto done;
+    }
+    if (nraw >= UINT32_MAX / 2 || ntri_max >= UINT32_MAX / 3) {
+        set_err(err, errlen, "%s: %s", name, "too many vertices or triangles");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+
+    size_t cap = 16;
+    while (cap < 2 * nraw)
+        cap <<= 1;
+    raw = malloc(3 * maxverts * sizeof *raw);
+    wid = malloc(maxverts * sizeof *wid);
+    table = calloc(cap, sizeof *table);
+    wpos = malloc(3 * nraw * sizeof *wpos);
+    tris = malloc(3 * ntri_max * sizeof *tris);
+    ptris = malloc(3 * (size_t)maxpoly * sizeof *ptris);
+    pxy = malloc(2 * (size_t)maxpoly * sizeof *pxy);
+    pring = malloc((size_t)maxpoly * sizeof *pring);
+    m = calloc(1, sizeof *m);
+    if (!raw || !wid || !table || !wpos || !tris || !ptris || !pxy || !pring || !m) {
+        set_err(err, errlen, "%s: %s", name, "out of memory");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+
+    /* Transform, check finiteness, weld, triangulate. */
+    size_t base = 0, nweld = 0, ntri = 0;
+    for (size_t i = 0; i < L.n; ++i) {
+        const struct aiMesh *am = L.v[i].mesh;
+        const double *M = L.v[i].m;
+        if (!mesh_usable(am))
+            continue;
+        int any = 0;
+        for (unsigned f = 0; f < am->mNumFaces && !any; ++f)
+            any = face_usable(am, &am->mFaces[f]);
+        if (!any)
+            continue;
+        for (unsigned v = 0; v < am->mNumVertices; ++v) {
+            double q[3] = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z};
+            double p[3];
+            for (int k = 0; k < 3; ++k)
+                p[k] = M[4 * k] * q[0] + M[4 * k + 1] * q[1] + M[4 * k + 2] * q[2] + M[4 * k + 3];
+            /* As read first (a NaN spreads to all three through the
+             * transform), then as placed in the world. */
+            for (int pass = 0; pass < 2; ++pass) {
+                const double *c = pass ? p : q;
+                for (int k = 0; k < 3; ++k) {
+                    if (isfinite(c[k]))
+                        continue;
+                    if (err && errlen)
+                        snprintf(err, errlen,
+                                 "%s: vertex %zu has a non-finite coordinate (%s) at (%g, %g, %g)%s",
+                                 name, base + v, nonfinite_name(c[k]), c[0], c[1], c[2],
+                                 pass ? " after its node's transform" : "");
+                    res = VP_ERR_FORMAT;
+                    goto done;
+                }
+            }
+            for (int k = 0; k < 3; ++k)
+                p[k] += 0.0; /* -0.0 becomes +0.0 */
+            memcpy(raw + 3 * (size_t)v, p, sizeof p);
+            size_t s = (size_t)hash_pos(p) & (cap - 1);
+            for (;;) {
+                uint32_t id = table[s];
+                if (id == 0) {
+                    table[s] = (uint32_t)(nweld + 1);
+                    memcpy(wpos + 3 * nweld, p, sizeof p);
+                    wid[v] = (uint32_t)nweld++;
+                    break;
+                }
+                const double *e = wpos + 3 * (size_t)(id - 1);
+                if (e[0] == p[0] && e[1] == p[1] && e[2] == p[2]) {
+                    wid[v] = id - 1;
+                    break;
+                }
+                s = (s + 1) & (cap - 1);
+            }
+        }
+        for (unsigned f = 0; f < am->mNumFaces; ++f) {
+            const struct aiFace *fc = &am->mFaces[f];
+            if (!face_usable(am, fc))
+                continue;
+            unsigned n = fc->mNumIndices;
+            if (n == 3) {
+                ptris[0] = 0; ptris[1] = 1; ptris[2] = 2;
+            } else {
+                triangulate_polygon(raw, fc->mIndices, n, ptris, pxy, pring);
+            }
+            for (unsigned t = 0; t < n - 2; ++t) {
+                uint32_t w[3];
+                for (int j = 0; j < 3; ++j)
+                    w[j] = wid[fc->mIndices[ptris[3 * t + j]]];
+                if (L.v[i].flip) {
+                    uint32_t s = w[1]; w[1] = w[2]; w[2] = s;
+                }
+                if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+                    m->zero_area_tris++;
+                    continue;
+                }
+                memcpy(tris + 3 * ntri, w, sizeof w);
+                ++ntri;
+            }
+        }
+        base += am->mNumVertices;
+    }
+
+    if (ntri == 0) {
+        set_err(err, errlen, "%s: %s", name,
+                "no triangles in the file (all degenerate after welding)");
+        res = VP_ERR_FORMAT;
+        goto done;
+    }
+
+    /* Keep only welded vertices that kept triangles use, in order of first
+     * use. */
+    remap = malloc((nweld ? nweld : 1) * sizeof *remap);
+    if (!remap) {
+        set_err(err, errlen, "%s: %s", name, "out of memory");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    for (size_t i = 0; i < nweld; ++i)
+        remap[i] = UINT32_MAX;
+    size_t nv = 0;
+    for (size_t i = 0; i < 3 * ntri; ++i) {
+        uint32_t o = tris[i];
+        if (remap[o] == UINT32_MAX)
+            remap[o] = (uint32_t)nv++;
+        tris[i] = remap[o];
+    }
+    m->verts = malloc(3 * nv * sizeof *m->verts);
+    if (!m->verts) {
+        set_err(err, errlen, "%s: %s", name, "out of memory");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    for (size_t i = 0; i < nweld; ++i)
+        if (remap[i] != UINT32_MAX)
+            memcpy(m->verts + 3 * (size_t)remap[i], wpos + 3 * i, 3 * sizeof *wpos);
+
+    m->nverts_raw = nraw;
+    m->nverts = nv;
+    m->ntris = ntri;
+    {
+        uint32_t *shrunk = realloc(tris, 3 * ntri * sizeof *tris);
+        m->tris = shrunk ? shrunk : tris;
+        tris = NULL;
+    }
+
+    res = compute_topology(m);
+    if (res != VP_OK)
+        set_err(err, errlen, "%s: %s", name, "out of memory");
+
+done:
+    free(L.v);
+    free(raw);
+    free(wid);
+    free(table);
+    free(wpos);
+    free(tris);
+    free(remap);
+    free(ptris);
+    free(pxy);
+    free(pring);
+    if (res != VP_OK) {
+        vp_mesh_destroy(m);
+        m = NULL;
+    }
+    *out = m;
+    return res;
+}
+
+static vp_result import_failed(const char *name, char *err, size_t errlen);
+
+/* Checks Assimp is known to get wrong on hostile input, run on the first
+ * bytes of the file before Assimp sees it. Assimp 5.2's PLY reader loops
+ * forever on a PLY header without an end_header line. */
+#define VP_MESH_PRECHECK_BYTES (1u << 20)
+
+static int starts_with_ci(const unsigned char *d, size_t n, const char *word)
+{
+    size_t k = strlen(word);
+    if (n < k)
+        return 0;
+    for (size_t i = 0; i < k; ++i) {
+        unsigned char c = d[i];
+        if (c >= 'A' && c <= 'Z')
+            c = (unsigned char)(c - 'A' + 'a');
+        if (c != (unsigned char)word[i])
+            return 0;
+    }
+    return 1;
+}
+
+static vp_result precheck(const unsigned char *d, size_t n, const char *name, char *err,
+                          size_t errlen)
+{
+    size_t i = 0;
+    while (i < n && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n'))
+        ++i;
+    if (starts_with_ci(d + i, n - i, "ply")) {
+        static const char tag[] = "end_header";
+        size_t k = sizeof tag - 1;
+        for (size_t j = i; j + k <= n; ++j)
+            if (d[j] == 'e' && memcmp(d + j, tag, k) == 0)
+                return VP_OK;
+        set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", name,
+                "PLY header without an end_header line");
+        return VP_ERR_FORMAT;
+    }
+    return VP_OK;
+}
+
+static vp_result finish_import(const struct aiScene *sc, const char *name, vp_mesh **out,
+                               char *err, size_t errlen)
+{
+    vp_result r = build_mesh(sc, name, out, err, errlen);
+    aiReleaseImport(sc);
+    return r;
+}
+
+static vp_result import_failed(const char *name, char *err, size_t errlen)
+{
+    const char *msg = aiGetErrorString();
+    set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", name,
+            (msg && *msg) ? msg : "unknown error");
+    return VP_ERR_FORMAT;
+}
+
+/* The importers run in a child process (isolate.c): Assimp 5.2 loops
+ * forever or aborts on some malformed files, whatever the prechecks. */
+static vp_result import_path(const void *arg, vp_mesh **out, char *err, size_t errlen)
+{
+    const char *path = arg;
+    const struct aiScene *sc = aiImportFile(path, 0);
+    if (!sc)
+        return import_failed(path, err, errlen);
+    return finish_import(sc, path, out, err, errlen);
+}
+
+typedef struct memory_source {
+    const void *data;
+    size_t size;
+    const char *hint;
+} memory_source;
+
+static vp_result import_memory(const void *arg, vp_mesh **out, char *err, size_t errlen)
+{
+    const memory_source *src = arg;
+    const struct aiScene *sc =
+        aiImportFileFromMemory((const char *)src->data, (unsigned)src->size, 0, src->hint);
+    if (!sc)
+        return import_failed("<memory>", err, errlen);
+    return finish_import(sc, "<memory>", out, err, errlen);
+}
+
+vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen)
+{
+    if (err && errlen)
+        err[0] = '\0';
+    if (!out) {
+        set_err(err, errlen, "%s: %s", path ? path : "(null)", "no output pointer");
+        return VP_ERR_INVALID_ARGUMENT;
+    }
+    *out = NULL;
+    if (!path || !*path) {
+        set_err(err, errlen, "%s%s", "", "mesh: empty file name");
+        return VP_ERR_INVALID_ARGUMENT;
+    }
+
+    /* Check the file ourselves first: Assimp's messages for a missing or
+     * unreadable file are poor. */
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        set_err(err, errlen, "%s: cannot open file (%s)", path, strerror(errno));
+        return VP_ERR_IO;
+    }
+    struct stat st;
+    memset(&st, 0, sizeof st);
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        set_err(err, errlen, "%s: cannot open file (%s)", path, strerror(EISDIR));
+        return VP_ERR_IO;
+    }
+    unsigned char *head = malloc(VP_MESH_PRECHECK_BYTES);
+    if (!head) {
+        fclose(f);
+        set_err(err, errlen, "%s: %s", path, "out of memory");
+        return VP_ERR_OUT_OF_MEMORY;
+    }
+    errno = 0;
+    size_t got = fread(head, 1, VP_MESH_PRECHECK_BYTES, f);
+    if (got < VP_MESH_PRECHECK_BYTES && ferror(f)) {
+        int e = errno ? errno : EIO;
+        fclose(f);
+        free(head);
+        set_err(err, errlen, "%s: cannot open file (%s)", path, strerror(e));
+        return VP_ERR_IO;
+    }
+    fclose(f);
+    if (got == 0) {
+        free(head);
+        set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", path,
+                "the file is empty");
+        return VP_ERR_FORMAT;
+    }
+    vp_result pr = precheck(head, got, path, err, errlen);
+    free(head);
+    if (pr != VP_OK)
+        return pr;
+
+    return vp_mesh_import_isolated(import_path, path, path,
+                                   vp_mesh_import_timeout((size_t)st.st_size), out, err,
+                                   errlen);
+}
+
+vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,
+                              vp_mesh **out, char *err, size_t errlen)
+{
+    const char *name = "<memory>";
+    if (err && errlen)
+        err[0] = '\0';
+    if (!out) {
+        set_err(err, errlen, "%s: %s", name, "no output pointer");
+        return VP_ERR_INVALID_ARGUMENT;
+    }
+    *out = NULL;
+    if (!data || size == 0) {
+        set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", name,
+                "the buffer is empty");
+        return VP_ERR_FORMAT;
+    }
+    if (size > UINT32_MAX) {
+        set_err(err, errlen, "%s: %s", name, "buffer too large for Assimp");
+        return VP_ERR_INVALID_ARGUMENT;
+    }
+    size_t scan = size < VP_MESH_PRECHECK_BYTES ? size : VP_MESH_PRECHECK_BYTES;
+    vp_result pr = precheck((const unsigned char *)data, scan, name, err, errlen);
+    if (pr != VP_OK)
+        return pr;
+    memory_source src = {data, size, hint ? hint : ""};
+    return vp_mesh_import_isolated(import_memory, &src, name, vp_mesh_import_timeout(size),
+                                   out, err, errlen);
+}
+
+void vp_mesh_destroy(vp_mesh *m)
+{
+    if (!m)
+        return;
+    free(m->verts);
+    free(m->tris);
+    free(m);
+}

@@ -1,0 +1,240 @@
+// Shared plumbing of the C++ layer: initialisation, messages, exception
+// mapping, file checks, metadata and deterministic output.
+#include "vdb/vdb_internal.hpp"
+
+#include <openvdb/points/PointDataGrid.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <sys/stat.h>
+
+extern "C" void vpv_init(void)
+{
+    static std::once_flag once;
+    try {
+        std::call_once(once, [] { openvdb::initialize(); });
+    } catch (...) {
+        // openvdb::initialize() does not throw in practice; nothing to report.
+    }
+}
+
+namespace vpv {
+
+void clear(char *err, size_t errlen)
+{
+    if (err && errlen) err[0] = '\0';
+}
+
+int fail(char *err, size_t errlen, int code, const char *fmt, ...)
+{
+    if (err && errlen) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err, errlen, fmt, ap);
+        va_end(ap);
+        for (char *c = err; *c; ++c)
+            if (*c == '\n' || *c == '\r' || *c == '\t') *c = ' ';
+        size_t n = strlen(err);
+        while (n > 0 && err[n - 1] == ' ') err[--n] = '\0';
+    }
+    return code;
+}
+
+static const char *nm(const char *path) { return path ? path : "(no file)"; }
+
+int from_exception(const char *path, Op op, char *err, size_t errlen)
+{
+    try {
+        throw;
+    } catch (const std::bad_alloc &) {
+        if (op == Op::Read)
+            return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
+                        "%s: out of memory while reading (the file may also be corrupt)", nm(path));
+        return fail(err, errlen, VP_ERR_OUT_OF_MEMORY, "%s: out of memory", nm(path));
+    } catch (const openvdb::IoError &e) {
+        if (op == Op::Write)
+            return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", nm(path), e.what());
+        if (op == Op::Read)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path), e.what());
+        return fail(err, errlen, VP_ERR_INTERNAL, "%s: %s", nm(path), e.what());
+    } catch (const openvdb::Exception &e) {
+        if (op == Op::Read)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path), e.what());
+        if (op == Op::Write)
+            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%s: cannot write points (%s)", nm(path), e.what());
+        return fail(err, errlen, VP_ERR_INTERNAL, "%s: OpenVDB error (%s)", nm(path), e.what());
+    } catch (const std::exception &e) {
+        if (op == Op::Read)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path), e.what());
+        if (op == Op::Write)
+            return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", nm(path), e.what());
+        return fail(err, errlen, VP_ERR_INTERNAL, "%s: unexpected error (%s)", nm(path), e.what());
+    } catch (...) {
+        if (op == Op::Read)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (unknown error)", nm(path));
+        return fail(err, errlen, VP_ERR_INTERNAL, "%s: unknown internal error", nm(path));
+    }
+}
+
+int check_readable(const char *path, char *err, size_t errlen)
+{
+    if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
+    FILE *f = fopen(path, "rb");
+    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
+    struct stat st;
+    int dir = (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode));
+    fclose(f);
+    if (dir) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(EISDIR));
+    return VP_OK;
+}
+
+int check_writable(const char *path, char *err, size_t errlen)
+{
+    if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
+    FILE *f = fopen(path, "wb");
+    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    fclose(f);
+    return VP_OK;
+}
+
+int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen)
+{
+    int rc = check_readable(path, err, errlen);
+    if (rc != VP_OK) return rc;
+    try {
+        file.open(/*delayLoad=*/false);
+    } catch (...) {
+        return from_exception(path, Op::Read, err, errlen);
+    }
+    return VP_OK;
+}
+
+std::string class_name(const openvdb::GridBase &g)
+{
+    if (g.isType<openvdb::points::PointDataGrid>()) return "points";
+    return openvdb::GridBase::gridClassToString(g.getGridClass());
+}
+
+std::string value_type_name(const openvdb::GridBase &g)
+{
+    if (g.isType<openvdb::points::PointDataGrid>()) return "points";
+    return g.valueType();
+}
+
+std::string list_grids(const openvdb::GridPtrVec &grids)
+{
+    std::string s;
+    for (const auto &g : grids) {
+        if (!g) continue;
+        if (!s.empty()) s += ", ";
+        s += "'" + g->getName() + "' [" + class_name(*g) + ", " + value_type_name(*g) + "]";
+    }
+    return s;
+}
+
+// OpenVDB's header: magic (8), file version (4), library version (4+4),
+// has-grid-offsets flag (1), then the UUID as 36 ASCII characters.
+int make_deterministic(const char *path, char *err, size_t errlen)
+{
+    const long uuid_at = 21, uuid_len = 36;
+    FILE *f = fopen(path, "r+b");
+    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot reopen file (%s)", path, strerror(errno));
+    unsigned char head[21 + 36];
+    if (fread(head, 1, sizeof head, f) != sizeof head || memcmp(head, " BDV", 4) != 0) {
+        fclose(f);
+        return fail(err, errlen, VP_ERR_IO, "%s: unexpected header after writing", path);
+    }
+    for (long i = 0; i < uuid_len; ++i) {
+        unsigned char c = head[uuid_at + i];
+        bool ok = (i == 8 || i == 13 || i == 18 || i == 23) ? c == '-' : isxdigit(c);
+        if (!ok) { fclose(f); return VP_OK; } // unknown layout: leave it
+    }
+    // Two FNV-1a style 64-bit hashes of everything after the UUID.
+    uint64_t h1 = 1469598103934665603ull, h2 = 0x9e3779b97f4a7c15ull;
+    std::vector<unsigned char> buf(1 << 20);
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), f)) > 0) {
+        for (size_t i = 0; i < n; ++i) {
+            h1 = (h1 ^ buf[i]) * 1099511628211ull;
+            h2 = (h2 ^ buf[i]) * 0x100000001b3ull + 0x632be59bd9b4e019ull;
+        }
+    }
+    if (ferror(f)) { fclose(f); return fail(err, errlen, VP_ERR_IO, "%s: read error", path); }
+    char hex[33];
+    snprintf(hex, sizeof hex, "%016llx%016llx", (unsigned long long)h1, (unsigned long long)h2);
+    hex[12] = '4';  // looks like a version-4 UUID
+    char uuid[37];
+    snprintf(uuid, sizeof uuid, "%.8s-%.4s-%.4s-%.4s-%.12s", hex, hex + 8, hex + 12, hex + 16, hex + 20);
+    if (fseek(f, uuid_at, SEEK_SET) != 0 || fwrite(uuid, 1, uuid_len, f) != (size_t)uuid_len) {
+        fclose(f);
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    }
+    if (fclose(f) != 0) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    return VP_OK;
+}
+
+static bool reserved_grid_key(const std::string &k)
+{
+    static const char *const keys[] = {"name", "class", "creator", "value_type", "vector_type",
+                                       "is_local_space", "is_saved_as_half_float", nullptr};
+    for (int i = 0; keys[i]; ++i)
+        if (k == keys[i]) return true;
+    return k.compare(0, 5, "file_") == 0;
+}
+
+void fill_meta(openvdb::MetaMap &map, const vp_meta *meta, size_t count, bool for_grid)
+{
+    if (!meta) return;
+    for (size_t i = 0; i < count; ++i) {
+        const vp_meta &m = meta[i];
+        if (!m.key || !*m.key) continue;
+        std::string key(m.key);
+        if (for_grid && reserved_grid_key(key)) continue;
+        map.removeMeta(key);
+        switch (m.type) {
+        case VP_META_STRING: map.insertMeta(key, openvdb::StringMetadata(m.s ? m.s : "")); break;
+        case VP_META_INT: map.insertMeta(key, openvdb::Int64Metadata(m.i)); break;
+        case VP_META_DOUBLE: map.insertMeta(key, openvdb::DoubleMetadata(m.d)); break;
+        default: break;
+        }
+    }
+}
+
+uint64_t next_generation()
+{
+    static std::atomic<uint64_t> counter{1};
+    return counter.fetch_add(1, std::memory_order_relaxed);
+}
+
+void refresh_levelset(vpv_levelset &ls)
+{
+    ls.gen = next_generation();
+    ls.ensured_depth = 0.0;
+    const openvdb::math::Transform &xf = ls.grid->transform();
+    openvdb::Vec3d vs = xf.voxelSize();
+    ls.voxel = std::min(vs[0], std::min(vs[1], vs[2]));
+    ls.affine = false;
+    if (xf.isLinear()) {
+        openvdb::math::AffineMap::Ptr a = xf.baseMap()->getAffineMap();
+        if (a) {
+            const openvdb::math::Mat4d m = a->getMat4();
+            ls.w2i = m.inverse();
+            ls.affine = true;
+            // Edge lengths from the matrix rows: exact even when the
+            // translation is large (voxelSize() differences lose bits).
+            double v = HUGE_VAL;
+            for (int r = 0; r < 3; ++r)
+                v = std::min(v, std::sqrt(m(r, 0) * m(r, 0) + m(r, 1) * m(r, 1) + m(r, 2) * m(r, 2)));
+            if (v > 0.0 && std::isfinite(v)) ls.voxel = v;
+        }
+    }
+}
+
+} // namespace vpv

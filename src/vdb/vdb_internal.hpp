@@ -1,0 +1,90 @@
+// Private helpers shared by the src/vdb/*.cpp files (the only C++ layer).
+// Not part of any public interface.
+#ifndef VDBPACK_VDB_INTERNAL_HPP
+#define VDBPACK_VDB_INTERNAL_HPP
+
+#include "vdb/vdb_bridge.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/io/File.h>
+
+#include <cstdint>
+#include <new>
+#include <string>
+#include <vector>
+
+// A level set owned by the C side. `gen` is unique over the process lifetime
+// (a new one whenever `grid` is replaced), so per-thread accessor caches
+// keyed by it never see a freed or replaced tree.
+struct vpv_levelset {
+    openvdb::FloatGrid::Ptr grid;
+    uint64_t gen = 0;
+    bool affine = false;        // world->index through w2i
+    openvdb::math::Mat4d w2i;   // row-vector convention (v * M)
+    double voxel = 1.0;         // smallest voxel edge (world)
+    double ensured_depth = 0.0; // ensure_interior already satisfied to this depth
+};
+
+namespace vpv {
+
+// What a failing entry point was doing, for mapping exceptions to codes.
+enum class Op { Read, Write, Compute };
+
+// Formats a one-line message (newlines replaced, no trailing newline) into
+// err and returns code.
+int fail(char *err, size_t errlen, int code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+
+// Clears err (err[0] = 0) when there is room.
+void clear(char *err, size_t errlen);
+
+// Maps the exception in flight (call from a catch block) to a code and a
+// message naming path (may be NULL).
+int from_exception(const char *path, Op op, char *err, size_t errlen);
+
+// Runs f() (returning an int code) and turns any exception into a code.
+template <typename F>
+int guard(const char *path, Op op, char *err, size_t errlen, F &&f) noexcept
+{
+    try {
+        return f();
+    } catch (...) {
+        return from_exception(path, op, err, errlen);
+    }
+}
+
+// VP_OK if path is an existing readable regular file, else VP_ERR_IO with
+// "path: cannot open file (reason)".
+int check_readable(const char *path, char *err, size_t errlen);
+// VP_OK if path can be created/truncated for writing, else VP_ERR_IO.
+int check_writable(const char *path, char *err, size_t errlen);
+
+// Opens an io::File for reading (no delayed loading), mapping failures to
+// VP_ERR_IO / VP_ERR_FORMAT.
+int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen);
+
+// "level set", "fog volume", ...
+std::string class_name(const openvdb::GridBase &g);
+// "float", "double", "points", "vec3s", ...
+std::string value_type_name(const openvdb::GridBase &g);
+// "'density' [fog volume, float], '' [level set, float]"
+std::string list_grids(const openvdb::GridPtrVec &grids);
+
+// Replaces the random UUID OpenVDB writes into the file header with a hash
+// of the rest of the file, so that equal content gives byte-identical files.
+int make_deterministic(const char *path, char *err, size_t errlen);
+
+// File/grid metadata from vp_meta entries.
+void fill_meta(openvdb::MetaMap &map, const vp_meta *meta, size_t count, bool for_grid);
+
+// Sets gen/affine/w2i/voxel after grid changed.
+void refresh_levelset(vpv_levelset &ls);
+
+uint64_t next_generation();
+
+} // namespace vpv
+
+#endif

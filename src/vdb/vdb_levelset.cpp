@@ -1,0 +1,198 @@
+// Level sets: read, write, sample, gradient, destroy.
+#include "vdb/vdb_internal.hpp"
+
+#include <openvdb/io/GridDescriptor.h>
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tree/ValueAccessor.h>
+
+#include <cmath>
+#include <memory>
+
+using namespace vpv;
+
+namespace {
+
+bool is_float_level_set(const openvdb::GridBase &g)
+{
+    return g.getGridClass() == openvdb::GRID_LEVEL_SET &&
+           (g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>());
+}
+
+std::string unknown_class_note(const openvdb::GridPtrVec &grids)
+{
+    for (const auto &g : grids) {
+        if (g && (g->isType<openvdb::FloatGrid>() || g->isType<openvdb::DoubleGrid>()) &&
+            g->getGridClass() == openvdb::GRID_UNKNOWN) {
+            return "; grid '" + g->getName() +
+                   "' holds floats but its class is unknown, not level set (mark it as a level set to use it)";
+        }
+    }
+    return std::string();
+}
+
+// The grid read from the file, as an owned FloatGrid.
+openvdb::FloatGrid::Ptr to_float_grid(const openvdb::GridBase::Ptr &g)
+{
+    if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g)) return f;
+    auto d = openvdb::gridPtrCast<openvdb::DoubleGrid>(g);
+    if (!d) return nullptr;
+    openvdb::FloatTree::Ptr tree(new openvdb::FloatTree(d->tree())); // converts values
+    openvdb::FloatGrid::Ptr f = openvdb::FloatGrid::create(tree);
+    f->setTransform(d->transform().copy());
+    for (auto it = d->beginMeta(); it != d->endMeta(); ++it)
+        if (it->second) f->insertMeta(it->first, *it->second);
+    f->setGridClass(openvdb::GRID_LEVEL_SET);
+    f->setName(d->getName());
+    return f;
+}
+
+using Acc = openvdb::tree::ValueAccessor<const openvdb::FloatTree, /*IsSafe=*/false>;
+
+struct Slot {
+    uint64_t gen = 0;
+    std::unique_ptr<Acc> acc;
+};
+
+// Per-thread accessors, keyed by the level set's generation (unique for
+// the process lifetime), so a freed grid whose address is reused is never
+// looked up through a stale accessor. Unsafe (unregistered) accessors never
+// touch their tree on destruction.
+Acc &accessor(const vpv_levelset *ls)
+{
+    static thread_local Slot slots[4];
+    static thread_local unsigned next = 0;
+    if (slots[0].gen == ls->gen) return *slots[0].acc;
+    for (int i = 1; i < 4; ++i) {
+        if (slots[i].gen == ls->gen) {
+            std::swap(slots[0], slots[i]); // most recent first
+            return *slots[0].acc;
+        }
+    }
+    Slot &s = slots[1 + (next++ % 3)];
+    s.acc.reset(new Acc(ls->grid->constTree()));
+    s.gen = ls->gen;
+    std::swap(slots[0], s);
+    return *slots[0].acc;
+}
+
+} // namespace
+
+extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_levelset **out,
+                                 char *err, size_t errlen)
+{
+    clear(err, errlen);
+    if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_read: out is NULL");
+    *out = nullptr;
+    vpv_init();
+    return guard(path, Op::Read, err, errlen, [&]() -> int {
+        openvdb::io::File file(path ? path : "");
+        int rc = open_file(path, file, err, errlen);
+        if (rc != VP_OK) return rc;
+        openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
+        if (!metas || metas->empty())
+            return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "%s: the file holds no grids", path);
+        const openvdb::GridPtrVec &grids = *metas;
+        size_t pick = grids.size();
+        if (!grid_name) {
+            for (size_t i = 0; i < grids.size(); ++i)
+                if (grids[i] && is_float_level_set(*grids[i])) { pick = i; break; }
+            if (pick == grids.size())
+                return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
+                            "%s: no float level set in the file (grids: %s)%s", path,
+                            list_grids(grids).c_str(), unknown_class_note(grids).c_str());
+        } else {
+            for (size_t i = 0; i < grids.size(); ++i)
+                if (grids[i] && grids[i]->getName() == grid_name) { pick = i; break; }
+            if (pick == grids.size())
+                return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "%s: no grid named '%s' (grids: %s)",
+                            path, grid_name, list_grids(grids).c_str());
+            const openvdb::GridBase &g = *grids[pick];
+            if (!is_float_level_set(g))
+                return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
+                            "%s: grid '%s' is not a float level set (it is [%s, %s])%s", path,
+                            grid_name, class_name(g).c_str(), value_type_name(g).c_str(),
+                            (g.getGridClass() == openvdb::GRID_UNKNOWN &&
+                             (g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>()))
+                                ? "; its class is unknown: mark it as a level set to use it"
+                                : "");
+        }
+        // Grids sharing a name are addressed as "name[k]" by io::File.
+        const std::string name = grids[pick]->getName();
+        int dup = 0;
+        for (size_t i = 0; i < pick; ++i)
+            if (grids[i] && grids[i]->getName() == name) ++dup;
+        const std::string key = dup ? openvdb::io::GridDescriptor::addSuffix(name, dup) : name;
+        openvdb::GridBase::Ptr g = file.readGrid(key);
+        file.close();
+        openvdb::FloatGrid::Ptr fg = to_float_grid(g);
+        if (!fg)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' could not be read as a float grid",
+                        path, name.c_str());
+        fg->setGridClass(openvdb::GRID_LEVEL_SET);
+        std::unique_ptr<vpv_levelset> ls(new vpv_levelset);
+        ls->grid = fg;
+        refresh_levelset(*ls);
+        *out = ls.release();
+        return VP_OK;
+    });
+}
+
+extern "C" double vpv_levelset_sample(const vpv_levelset *ls, const double p[3])
+{
+    if (!ls || !ls->grid) return HUGE_VAL;
+    openvdb::Vec3d w(p[0], p[1], p[2]);
+    openvdb::Vec3d idx = ls->affine ? ls->w2i.transform(w) : ls->grid->transform().worldToIndex(w);
+    return double(openvdb::tools::BoxSampler::sample(accessor(ls), idx));
+}
+
+extern "C" void vpv_levelset_gradient(const vpv_levelset *ls, const double p[3], double g[3])
+{
+    g[0] = g[1] = g[2] = 0.0;
+    if (!ls || !ls->grid) return;
+    const double h = 0.5 * ls->voxel;
+    double d[3];
+    for (int a = 0; a < 3; ++a) {
+        double q[3] = {p[0], p[1], p[2]};
+        q[a] = p[a] + h;
+        double fp = vpv_levelset_sample(ls, q);
+        q[a] = p[a] - h;
+        double fm = vpv_levelset_sample(ls, q);
+        d[a] = (fp - fm) / (2.0 * h);
+    }
+    double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(n > 1e-300) || !std::isfinite(n)) return;
+    for (int a = 0; a < 3; ++a) g[a] = d[a] / n;
+}
+
+extern "C" int vpv_levelset_write(const vpv_levelset *ls, const char *path, const vp_meta *meta,
+                                  size_t meta_count, char *err, size_t errlen)
+{
+    clear(err, errlen);
+    if (!ls || !ls->grid)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_write: no level set");
+    vpv_init();
+    return guard(path, Op::Write, err, errlen, [&]() -> int {
+        int rc = check_writable(path, err, errlen);
+        if (rc != VP_OK) return rc;
+        openvdb::MetaMap fm;
+        fill_meta(fm, meta, meta_count, false);
+        openvdb::GridCPtrVec grids;
+        grids.push_back(ls->grid);
+        {
+            openvdb::io::File file(path);
+            if (openvdb::io::Archive::hasBloscCompression())
+                file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+            file.write(grids, fm);
+            file.close();
+        }
+        return make_deterministic(path, err, errlen);
+    });
+}
+
+extern "C" void vpv_levelset_destroy(vpv_levelset *ls)
+{
+    try {
+        delete ls;
+    } catch (...) {
+    }
+}

@@ -1,0 +1,99 @@
+// Level sets from closed triangle meshes (openvdb::tools::meshToVolume).
+#include "vdb/vdb_internal.hpp"
+
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+using namespace vpv;
+
+namespace {
+
+// Mesh adapter handing meshToVolume index-space points computed in double
+// precision relative to the mesh centre (no copy of the mesh).
+struct CentredMesh {
+    const double *v;
+    size_t nv;
+    const uint32_t *t;
+    size_t nt;
+    double c[3];
+    double inv_voxel;
+
+    size_t polygonCount() const { return nt; }
+    size_t pointCount() const { return nv; }
+    size_t vertexCount(size_t) const { return 3; }
+    void getIndexSpacePoint(size_t n, size_t k, openvdb::Vec3d &pos) const
+    {
+        const double *p = v + 3 * size_t(t[3 * n + k]);
+        pos = openvdb::Vec3d((p[0] - c[0]) * inv_voxel, (p[1] - c[1]) * inv_voxel,
+                             (p[2] - c[2]) * inv_voxel);
+    }
+};
+
+} // namespace
+
+extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const uint32_t *tris,
+                                      size_t ntris, double voxel, double ex_band, double in_band,
+                                      vpv_levelset **out, char *err, size_t errlen)
+{
+    clear(err, errlen);
+    if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh: out is NULL");
+    *out = nullptr;
+    if (!(voxel > 0.0) || !std::isfinite(voxel))
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "voxel size %g is not a positive number", voxel);
+    if (!(ex_band >= 1.0) || !(in_band >= 1.0) || std::isnan(ex_band) || std::isnan(in_band))
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                    "band widths must be at least 1 voxel (exterior %g, interior %g)", ex_band, in_band);
+    if (!verts || !tris || nverts == 0 || ntris == 0)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "the mesh is empty (%zu vertices, %zu triangles)",
+                    nverts, ntris);
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (size_t i = 0; i < nverts; ++i) {
+        for (int a = 0; a < 3; ++a) {
+            const double x = verts[3 * i + a];
+            if (!std::isfinite(x))
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vertex %zu has a non-finite coordinate", i);
+            if (x < lo[a]) lo[a] = x;
+            if (x > hi[a]) hi[a] = x;
+        }
+    }
+    for (size_t i = 0; i < 3 * ntris; ++i)
+        if (tris[i] >= nverts)
+            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                        "triangle %zu refers to vertex %u but the mesh has %zu vertices", i / 3,
+                        (unsigned)tris[i], nverts);
+    static const char axes[] = "xyz";
+    for (int a = 0; a < 3; ++a) {
+        const double dim = (hi[a] - lo[a]) / voxel;
+        if (dim > 100000.0)
+            return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
+                        "the mesh is %.0f voxels along %c at voxel size %g (limit 100000): use a larger voxel",
+                        dim, axes[a], voxel);
+    }
+    const float exf = float(std::min(ex_band, 1e6));
+    const float inf = in_band >= double(std::numeric_limits<float>::max())
+                          ? std::numeric_limits<float>::max()
+                          : float(in_band);
+    vpv_init();
+    return guard(nullptr, Op::Compute, err, errlen, [&]() -> int {
+        CentredMesh mesh{verts, nverts, tris, ntris,
+                         {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])},
+                         1.0 / voxel};
+        // Built directly (not createLinearTransform + postTranslate) so the
+        // scale stays exactly `voxel` with a large translation.
+        openvdb::math::Transform::Ptr xf(new openvdb::math::Transform(
+            openvdb::math::MapBase::Ptr(new openvdb::math::UniformScaleTranslateMap(
+                voxel, openvdb::Vec3d(mesh.c[0], mesh.c[1], mesh.c[2])))));
+        openvdb::FloatGrid::Ptr g = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *xf, exf, inf, 0);
+        if (!g) return fail(err, errlen, VP_ERR_INTERNAL, "meshToVolume returned no grid");
+        g->setGridClass(openvdb::GRID_LEVEL_SET);
+        g->setName("container");
+        std::unique_ptr<vpv_levelset> ls(new vpv_levelset);
+        ls->grid = g;
+        refresh_levelset(*ls);
+        *out = ls.release();
+        return VP_OK;
+    });
+}

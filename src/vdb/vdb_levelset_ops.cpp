@@ -1,0 +1,131 @@
+// Level sets: interior band check/rebuild and info (measure, leak test).
+#include "vdb/vdb_internal.hpp"
+
+#include <openvdb/tools/Count.h>
+#include <openvdb/tools/LevelSetMeasure.h>
+#include <openvdb/tools/LevelSetRebuild.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace vpv;
+
+namespace {
+
+// -(smallest active value, tiles included); 0 for an empty grid.
+double interior_band(const openvdb::FloatGrid &g)
+{
+    if (g.tree().activeVoxelCount() == 0) return 0.0;
+    openvdb::math::MinMax<float> mm = openvdb::tools::minMax(g.tree());
+    return std::max(0.0, -double(mm.min()));
+}
+
+} // namespace
+
+extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, char *err,
+                                            size_t errlen)
+{
+    clear(err, errlen);
+    if (!ls || !ls->grid)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_ensure_interior: no level set");
+    if (std::isnan(in_depth))
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "interior depth is not a number");
+    if (in_depth <= 0.0 || in_depth <= ls->ensured_depth) return VP_OK;
+    vpv_init();
+    const std::string name = ls->grid->getName();
+    return guard(name.c_str(), Op::Compute, err, errlen, [&]() -> int {
+        openvdb::FloatGrid &g = *ls->grid;
+        if (interior_band(g) >= in_depth) {
+            ls->ensured_depth = in_depth;
+            return VP_OK;
+        }
+        if (!g.hasUniformVoxels())
+            return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
+                        "level set '%s': voxels are not cubes; cannot widen its interior band",
+                        name.c_str());
+        const double voxel = ls->voxel;
+        const double want = std::ceil(in_depth / voxel) + 2.0;
+        if (!std::isfinite(want) || want > 1e6)
+            return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
+                        "level set '%s': interior depth %g is %g voxels, too many", name.c_str(),
+                        in_depth, want);
+        const double ex = std::max(3.0, double(g.background()) / voxel);
+        openvdb::FloatGrid::Ptr ng =
+            openvdb::tools::levelSetRebuild(g, 0.0f, float(ex), float(want));
+        ng->setName(name);
+        ng->setGridClass(openvdb::GRID_LEVEL_SET);
+        ls->grid = ng;
+        refresh_levelset(*ls);
+        ls->ensured_depth = in_depth;
+        return VP_OK;
+    });
+}
+
+extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info)
+{
+    if (!info) return;
+    memset(info, 0, sizeof *info);
+    if (!ls || !ls->grid) return;
+    try {
+        const openvdb::FloatGrid &g = *ls->grid;
+        const openvdb::FloatTree &t = g.tree();
+        const openvdb::math::Transform &xf = g.transform();
+        info->voxel_size = ls->voxel;
+        snprintf(info->name, sizeof info->name, "%s", g.getName().c_str());
+        info->background = std::fabs(double(g.background()));
+        info->active_voxels = size_t(t.activeVoxelCount());
+        if (info->active_voxels == 0) return;
+        info->interior_band = interior_band(g);
+
+        const openvdb::CoordBBox bb = g.evalActiveVoxelBoundingBox();
+        for (int a = 0; a < 3; ++a) {
+            info->bmin[a] = HUGE_VAL;
+            info->bmax[a] = -HUGE_VAL;
+        }
+        for (int c = 0; c < 8; ++c) {
+            openvdb::Vec3d ip((c & 1) ? bb.max().x() : bb.min().x(),
+                              (c & 2) ? bb.max().y() : bb.min().y(),
+                              (c & 4) ? bb.max().z() : bb.min().z());
+            openvdb::Vec3d w = xf.indexToWorld(ip);
+            for (int a = 0; a < 3; ++a) {
+                info->bmin[a] = std::min(info->bmin[a], w[a]);
+                info->bmax[a] = std::max(info->bmax[a], w[a]);
+            }
+        }
+
+        size_t inside = 0;
+        for (auto it = t.cbeginValueOn(); it; ++it)
+            if (*it < 0.0f) inside += size_t(it.getVoxelCount());
+        info->inside_voxels = inside;
+
+        try {
+            info->volume = double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true));
+        } catch (...) {
+            const openvdb::Vec3d vs = xf.voxelSize();
+            info->volume = double(inside) * vs[0] * vs[1] * vs[2];
+        }
+
+        // Leak test: any voxel on a face of the active bbox inside?
+        openvdb::FloatGrid::ConstAccessor acc = g.getConstAccessor();
+        const openvdb::Coord lo = bb.min(), hi = bb.max();
+        int leaked = 0;
+        for (int axis = 0; axis < 3 && !leaked; ++axis) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            for (int side = 0; side < 2 && !leaked; ++side) {
+                openvdb::Coord ijk;
+                ijk[axis] = side ? hi[axis] : lo[axis];
+                for (int i = lo[u]; i <= hi[u] && !leaked; ++i) {
+                    ijk[u] = i;
+                    for (int j = lo[v]; j <= hi[v]; ++j) {
+                        ijk[v] = j;
+                        if (acc.getValue(ijk) < 0.0f) { leaked = 1; break; }
+                    }
+                }
+            }
+        }
+        info->leaked = leaked;
+    } catch (...) {
+        // get_info cannot report errors; leave what was filled.
+    }
+}

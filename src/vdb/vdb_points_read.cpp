@@ -1,0 +1,225 @@
+// OpenVDB PointDataGrid -> particles (P, pscale, orient, groups; in id order).
+#include "vdb/vdb_internal.hpp"
+
+#include <openvdb/io/GridDescriptor.h>
+#include <openvdb/points/AttributeArray.h>
+#include <openvdb/points/PointCount.h>
+#include <openvdb/points/PointDataGrid.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+
+using namespace vpv;
+namespace vp = openvdb::points;
+
+namespace {
+
+const char *const kShapeNames[] = {"sphere", "tetrahedron", "cube", "octahedron", "dodecahedron",
+                                   "icosahedron"};
+
+void free_particles(vp_particles *p)
+{
+    if (!p) return;
+    free(p->positions);
+    free(p->radii);
+    free(p->orients);
+    free(p->groups);
+    free(p);
+}
+
+struct Owner {
+    vp_particles *p = nullptr;
+    ~Owner() { free_particles(p); }
+};
+
+bool shape_from(const openvdb::MetaMap &m, vp_shape &out)
+{
+    openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shape");
+    if (!s) return false;
+    for (int i = 0; i < VP_SHAPE_COUNT; ++i)
+        if (s->value() == kShapeNames[i]) { out = vp_shape(i); return true; }
+    return false;
+}
+
+} // namespace
+
+extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, size_t errlen)
+{
+    clear(err, errlen);
+    if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_points_read: out is NULL");
+    *out = nullptr;
+    vpv_init();
+    return guard(path, Op::Read, err, errlen, [&]() -> int {
+        openvdb::io::File file(path ? path : "");
+        int rc = open_file(path, file, err, errlen);
+        if (rc != VP_OK) return rc;
+        openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
+        if (!metas || metas->empty())
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: the file holds no grids", path);
+        const openvdb::GridPtrVec &grids = *metas;
+        size_t pick = grids.size();
+        for (size_t i = 0; i < grids.size(); ++i)
+            if (grids[i] && grids[i]->isType<vp::PointDataGrid>() && grids[i]->getName() == "points") {
+                pick = i;
+                break;
+            }
+        if (pick == grids.size())
+            for (size_t i = 0; i < grids.size(); ++i)
+                if (grids[i] && grids[i]->isType<vp::PointDataGrid>()) { pick = i; break; }
+        if (pick == grids.size())
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: no point data grid in the file (grids: %s)", path,
+                        list_grids(grids).c_str());
+        const std::string name = grids[pick]->getName();
+        int dup = 0;
+        for (size_t i = 0; i < pick; ++i)
+            if (grids[i] && grids[i]->getName() == name) ++dup;
+        openvdb::GridBase::Ptr base =
+            file.readGrid(dup ? openvdb::io::GridDescriptor::addSuffix(name, dup) : name);
+        openvdb::MetaMap::Ptr fmeta = file.getMetadata();
+        file.close();
+        vp::PointDataGrid::Ptr grid = openvdb::gridPtrCast<vp::PointDataGrid>(base);
+        if (!grid) return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' is not a point data grid", path, name.c_str());
+        const vp::PointDataTree &tree = grid->constTree();
+        const openvdb::math::Transform &xf = grid->transform();
+
+        Owner own;
+        own.p = static_cast<vp_particles *>(calloc(1, sizeof(vp_particles)));
+        if (!own.p) throw std::bad_alloc();
+        vp_particles &P = *own.p;
+        P.shape = VP_SHAPE_SPHERE;
+        P.uniform_orient[3] = 1.0f;
+        P.group_count = 1;
+        snprintf(P.group_names[0], VP_GROUP_NAME_MAX, "%s", "all");
+        vp_shape sh;
+        if (shape_from(*grid, sh) || (fmeta && shape_from(*fmeta, sh))) P.shape = sh;
+
+        auto leaf0 = tree.cbeginLeaf();
+        const size_t count = leaf0 ? size_t(vp::pointCount(tree)) : 0;
+        if (count == 0) {
+            *out = own.p;
+            own.p = nullptr;
+            return VP_OK;
+        }
+        const vp::AttributeSet::Descriptor &desc = leaf0->attributeSet().descriptor();
+        const size_t NONE = vp::AttributeSet::INVALID_POS;
+        const size_t iP = desc.find("P");
+        if (iP == NONE || desc.valueType(iP) != openvdb::typeNameAsString<openvdb::Vec3f>())
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' has no vec3s P attribute", path, name.c_str());
+        size_t iR = desc.find("pscale");
+        if (iR != NONE && desc.valueType(iR) != openvdb::typeNameAsString<float>()) iR = NONE;
+        size_t iO = desc.find("orient");
+        if (iO != NONE && desc.valueType(iO) != openvdb::typeNameAsString<openvdb::math::Quats>()) iO = NONE;
+        size_t iI = desc.find("id");
+        const bool id32 = iI != NONE && desc.valueType(iI) == openvdb::typeNameAsString<int32_t>();
+        const bool id64 = iI != NONE && desc.valueType(iI) == openvdb::typeNameAsString<int64_t>();
+        if (!id32 && !id64) iI = NONE;
+
+        // Output order: by id when the ids are a permutation of 0..count-1.
+        std::vector<size_t> dest;
+        if (iI != NONE) {
+            dest.resize(count);
+            std::vector<bool> seen(count, false);
+            size_t k = 0;
+            bool ok = true;
+            for (auto leaf = tree.cbeginLeaf(); leaf && ok; ++leaf) {
+                std::unique_ptr<vp::AttributeHandle<int32_t>> h32;
+                std::unique_ptr<vp::AttributeHandle<int64_t>> h64;
+                if (id32) h32.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray(iI)));
+                else h64.reset(new vp::AttributeHandle<int64_t>(leaf->constAttributeArray(iI)));
+                for (auto idx = leaf->beginIndexAll(); idx; ++idx, ++k) {
+                    const int64_t id = h32 ? int64_t(h32->get(*idx)) : h64->get(*idx);
+                    if (k >= count || id < 0 || uint64_t(id) >= count || seen[size_t(id)]) { ok = false; break; }
+                    seen[size_t(id)] = true;
+                    dest[k] = size_t(id);
+                }
+            }
+            if (!ok || k != count) { dest.clear(); dest.shrink_to_fit(); }
+        }
+
+        // Groups in descriptor (offset) order, at most VP_MAX_GROUPS.
+        std::vector<std::pair<size_t, std::string>> gs;
+        for (const auto &kv : desc.groupMap()) gs.emplace_back(kv.second, kv.first);
+        std::sort(gs.begin(), gs.end());
+        if (gs.size() > VP_MAX_GROUPS) gs.resize(VP_MAX_GROUPS);
+
+        P.positions = static_cast<double *>(malloc(sizeof(double) * 3 * count));
+        if (!P.positions) throw std::bad_alloc();
+        if (iR != NONE) {
+            P.radii = static_cast<float *>(malloc(sizeof(float) * count));
+            if (!P.radii) throw std::bad_alloc();
+        }
+        if (iO != NONE) {
+            P.orients = static_cast<float *>(malloc(sizeof(float) * 4 * count));
+            if (!P.orients) throw std::bad_alloc();
+            P.has_orient = 1;
+        }
+        if (!gs.empty()) {
+            P.group_count = unsigned(gs.size());
+            for (size_t g = 0; g < gs.size(); ++g)
+                snprintf(P.group_names[g], VP_GROUP_NAME_MAX, "%s", gs[g].second.c_str());
+            P.groups = static_cast<uint16_t *>(calloc(count, sizeof(uint16_t)));
+            if (!P.groups) throw std::bad_alloc();
+        }
+
+        size_t k = 0;
+        for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+            vp::AttributeHandle<openvdb::Vec3f> hp(leaf->constAttributeArray(iP));
+            std::unique_ptr<vp::AttributeHandle<float>> hr;
+            std::unique_ptr<vp::AttributeHandle<openvdb::math::Quats>> ho;
+            if (iR != NONE) hr.reset(new vp::AttributeHandle<float>(leaf->constAttributeArray(iR)));
+            if (iO != NONE) ho.reset(new vp::AttributeHandle<openvdb::math::Quats>(leaf->constAttributeArray(iO)));
+            std::vector<vp::GroupHandle> gh;
+            for (const auto &g : gs) gh.push_back(leaf->groupHandle(g.second));
+            for (auto idx = leaf->beginIndexAll(); idx; ++idx, ++k) {
+                if (k >= count) break;
+                const size_t d = dest.empty() ? k : dest[k];
+                const openvdb::Vec3d ip = idx.getCoord().asVec3d() + openvdb::Vec3d(hp.get(*idx));
+                const openvdb::Vec3d w = xf.indexToWorld(ip);
+                P.positions[3 * d] = w[0];
+                P.positions[3 * d + 1] = w[1];
+                P.positions[3 * d + 2] = w[2];
+                if (hr) P.radii[d] = hr->get(*idx);
+                if (ho) {
+                    const openvdb::math::Quats q = ho->get(*idx);
+                    for (int c = 0; c < 4; ++c) P.orients[4 * d + c] = q[c];
+                }
+                for (size_t g = 0; g < gh.size(); ++g)
+                    if (gh[g].get(*idx)) { P.groups[d] = uint16_t(g); break; }
+            }
+        }
+        P.count = P.capacity = std::min(k, count);
+
+        // Collapse uniform per-point data to the uniform fields.
+        if (P.radii) {
+            bool uni = true;
+            for (size_t i = 1; i < P.count && uni; ++i) uni = P.radii[i] == P.radii[0];
+            if (uni) {
+                P.uniform_radius = P.radii[0];
+                free(P.radii);
+                P.radii = nullptr;
+            }
+        }
+        if (P.orients) {
+            bool uni = true;
+            for (size_t i = 1; i < P.count && uni; ++i)
+                uni = memcmp(P.orients + 4 * i, P.orients, 4 * sizeof(float)) == 0;
+            if (uni) {
+                memcpy(P.uniform_orient, P.orients, 4 * sizeof(float));
+                free(P.orients);
+                P.orients = nullptr;
+            }
+        }
+        if (P.groups) {
+            bool zero = true;
+            for (size_t i = 0; i < P.count && zero; ++i) zero = P.groups[i] == 0;
+            if (zero) {
+                free(P.groups);
+                P.groups = nullptr;
+            }
+        }
+        *out = own.p;
+        own.p = nullptr;
+        return VP_OK;
+    });
+}

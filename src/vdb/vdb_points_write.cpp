@@ -1,0 +1,221 @@
+// Particles -> OpenVDB PointDataGrid "points" (P, pscale, id, orient, groups).
+#include "vdb/vdb_internal.hpp"
+
+#include <openvdb/points/PointAttribute.h>
+#include <openvdb/points/PointConversion.h>
+#include <openvdb/points/PointDataGrid.h>
+#include <openvdb/points/PointGroup.h>
+#include <openvdb/tools/PointIndexGrid.h>
+
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <set>
+
+using namespace vpv;
+namespace vp = openvdb::points;
+
+namespace {
+
+// The caller's double positions, without a copy.
+struct Positions {
+    using PosType = openvdb::Vec3d;
+    using value_type = openvdb::Vec3d;
+    const double *p;
+    size_t n;
+    size_t size() const { return n; }
+    void getPos(size_t i, openvdb::Vec3d &xyz) const
+    {
+        xyz = openvdb::Vec3d(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    }
+};
+
+struct Radii {
+    using value_type = float;
+    const float *r;
+    void get(float &v, size_t n) const { v = r[n]; }
+    void get(float &v, size_t n, openvdb::Index) const { v = r[n]; }
+};
+
+template <typename T>
+struct Ids {
+    using value_type = T;
+    void get(T &v, size_t n) const { v = T(n); }
+    void get(T &v, size_t n, openvdb::Index) const { v = T(n); }
+};
+
+struct Orients {
+    using value_type = openvdb::math::Quats;
+    const float *q;
+    void get(openvdb::math::Quats &v, size_t n) const
+    {
+        const float *x = q + 4 * n;
+        v = openvdb::math::Quats(x[0], x[1], x[2], x[3]);
+    }
+    void get(openvdb::math::Quats &v, size_t n, openvdb::Index) const { get(v, n); }
+};
+
+const char *const kShapeNames[] = {"sphere", "tetrahedron", "cube", "octahedron", "dodecahedron",
+                                   "icosahedron"};
+
+bool has_key(const vp_meta *meta, size_t n, const char *key)
+{
+    for (size_t i = 0; meta && i < n; ++i)
+        if (meta[i].key && strcmp(meta[i].key, key) == 0) return true;
+    return false;
+}
+
+} // namespace
+
+extern "C" int vpv_points_write(const char *path, const vp_particles *p,
+                                const vp_write_params *params, char *err, size_t errlen)
+{
+    clear(err, errlen);
+    if (!p) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_points_write: no particles");
+    const size_t count = p->count;
+    if (count > 0 && !p->positions)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_points_write: positions are NULL");
+    const int full = params ? params->full_precision : 0;
+    const int ppv_in = params ? params->points_per_voxel : 0;
+    if (ppv_in < 0)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "points per voxel %d is negative", ppv_in);
+    const uint32_t ppv = ppv_in > 0 ? uint32_t(ppv_in) : 8u;
+    const vp_meta *meta = params ? params->meta : nullptr;
+    const size_t meta_count = params ? params->meta_count : 0;
+
+    // Validate everything before touching OpenVDB.
+    const unsigned ngroups = p->group_count;
+    if (ngroups > VP_MAX_GROUPS)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%u groups (at most %d)", ngroups, VP_MAX_GROUPS);
+    std::vector<std::string> gnames;
+    {
+        std::set<std::string> seen;
+        for (unsigned g = 0; g < ngroups; ++g) {
+            std::string s(p->group_names[g], strnlen(p->group_names[g], VP_GROUP_NAME_MAX));
+            if (s.empty() || !vp::AttributeSet::Descriptor::validName(s))
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                            "group %u: name '%s' is not valid (letters, digits, _ | : only)", g, s.c_str());
+            if (!seen.insert(s).second)
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "group name '%s' is used twice", s.c_str());
+            gnames.push_back(s);
+        }
+    }
+    double maxabs = 0.0, rmax = p->radii ? 0.0 : std::fabs(double(p->uniform_radius));
+    for (size_t i = 0; i < 3 * count; ++i) {
+        const double x = p->positions[i];
+        if (!std::isfinite(x))
+            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu has a non-finite position", i / 3);
+        maxabs = std::max(maxabs, std::fabs(x));
+    }
+    if (p->radii)
+        for (size_t i = 0; i < count; ++i) rmax = std::max(rmax, std::fabs(double(p->radii[i])));
+    if (p->groups && ngroups > 0)
+        for (size_t i = 0; i < count; ++i)
+            if (p->groups[i] >= ngroups)
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu is in group %u of %u", i,
+                            (unsigned)p->groups[i], ngroups);
+
+    vpv_init();
+    return guard(path, Op::Write, err, errlen, [&]() -> int {
+        int rc = check_writable(path, err, errlen);
+        if (rc != VP_OK) return rc;
+
+        const Positions pos{p->positions, count};
+        double voxel;
+        if (count == 0) {
+            voxel = 1.0;
+        } else if (count == 1) {
+            voxel = rmax > 0.0 && std::isfinite(rmax) ? 2.0 * rmax : 0.1;
+        } else {
+            voxel = double(vp::computeVoxelSize(pos, ppv));
+            if (!(voxel > 0.0) || !std::isfinite(voxel)) voxel = rmax > 0.0 ? 2.0 * rmax : 0.1;
+        }
+        // Keep index coordinates well inside int32.
+        const double lim = double(1 << 29);
+        if (maxabs / voxel > lim) voxel = maxabs / lim;
+
+        openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(voxel);
+        vp::PointDataGrid::Ptr grid;
+        openvdb::tools::PointIndexGrid::Ptr index;
+        if (count == 0) {
+            grid = vp::PointDataGrid::create();
+            grid->setTransform(xf);
+        } else {
+            index = openvdb::tools::createPointIndexGrid<openvdb::tools::PointIndexGrid>(pos, *xf);
+            if (full)
+                grid = vp::createPointDataGrid<vp::NullCodec, vp::PointDataGrid>(*index, pos, *xf);
+            else
+                grid = vp::createPointDataGrid<vp::FixedPointCodec<false, vp::PositionRange>,
+                                               vp::PointDataGrid>(*index, pos, *xf);
+        }
+        grid->setName("points");
+        vp::PointDataTree &tree = grid->tree();
+
+        if (count > 0) {
+            const openvdb::tools::PointIndexTree &itree = index->tree();
+            // pscale
+            if (p->radii) {
+                vp::appendAttribute<float>(tree, "pscale");
+                vp::populateAttribute(tree, itree, "pscale", Radii{p->radii});
+            } else {
+                vp::appendAttribute<float>(tree, "pscale", p->uniform_radius);
+            }
+            // id = index in the caller's order
+            if (count > size_t(INT32_MAX)) {
+                vp::appendAttribute<int64_t>(tree, "id");
+                vp::populateAttribute(tree, itree, "id", Ids<int64_t>{});
+            } else {
+                vp::appendAttribute<int32_t>(tree, "id");
+                vp::populateAttribute(tree, itree, "id", Ids<int32_t>{});
+            }
+            // orient (quaternions, x y z w)
+            if (p->has_orient) {
+                if (p->orients) {
+                    vp::appendAttribute<openvdb::math::Quats>(tree, "orient");
+                    vp::populateAttribute(tree, itree, "orient", Orients{p->orients});
+                } else {
+                    const float *u = p->uniform_orient;
+                    vp::appendAttribute<openvdb::math::Quats>(
+                        tree, "orient", openvdb::math::Quats(u[0], u[1], u[2], u[3]));
+                }
+            }
+            // groups
+            for (const std::string &g : gnames) vp::appendGroup(tree, g);
+            if (!gnames.empty()) {
+                if (!p->groups) {
+                    vp::setGroup(tree, gnames[0], true);
+                } else {
+                    std::vector<short> member(count);
+                    for (unsigned g = 0; g < ngroups; ++g) {
+                        size_t n = 0;
+                        for (size_t i = 0; i < count; ++i) n += (member[i] = (p->groups[i] == g));
+                        if (n) vp::setGroup(tree, itree, member, gnames[g]);
+                    }
+                }
+            }
+            index.reset();
+        } else {
+            // An empty grid still carries the attribute layout in its
+            // descriptor only when it has leaves; nothing more to do.
+        }
+
+        openvdb::MetaMap fm;
+        fill_meta(fm, meta, meta_count, false);
+        fill_meta(*grid, meta, meta_count, true);
+        if (!has_key(meta, meta_count, "shape") && p->shape >= 0 && p->shape < VP_SHAPE_COUNT) {
+            fm.insertMeta("shape", openvdb::StringMetadata(kShapeNames[p->shape]));
+            grid->insertMeta("shape", openvdb::StringMetadata(kShapeNames[p->shape]));
+        }
+
+        openvdb::GridCPtrVec grids;
+        grids.push_back(grid);
+        {
+            openvdb::io::File file(path);
+            if (openvdb::io::Archive::hasBloscCompression())
+                file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+            file.write(grids, fm);
+            file.close();
+        }
+        return make_deterministic(path, err, errlen);
+    });
+}

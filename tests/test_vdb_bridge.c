@@ -1,0 +1,602 @@
+/* Tests of the C++ OpenVDB bridge (src/vdb) through its extern "C" API. */
+#include "vp_test.h"
+#include "vdb/vdb_bridge.h"
+
+#include <pthread.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#ifndef VP_SHARED_CONTAINERS
+#define VP_SHARED_CONTAINERS "../shared/containers"
+#endif
+
+static char tmpdir[256];
+static char err[512];
+
+static void tmp_path(char *out, size_t n, const char *name)
+{
+    snprintf(out, n, "%s/%s", tmpdir, name);
+}
+
+static int file_exists(const char *p)
+{
+    FILE *f = fopen(p, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+static unsigned char *slurp(const char *p, size_t *n)
+{
+    FILE *f = fopen(p, "rb");
+    ASSERT_TRUE(f != NULL);
+    fseek(f, 0, SEEK_END);
+    long len = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    unsigned char *b = malloc((size_t)len + 1);
+    ASSERT_TRUE(b != NULL);
+    ASSERT_EQ_INT(fread(b, 1, (size_t)len, f), len);
+    fclose(f);
+    *n = (size_t)len;
+    return b;
+}
+
+static int same_bytes(const char *a, const char *b)
+{
+    size_t na, nb;
+    unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
+    int same = na == nb && memcmp(x, y, na) == 0;
+    free(x);
+    free(y);
+    return same;
+}
+
+/* Axis-aligned cube [c-h, c+h]^3 as 12 triangles (optionally missing the +z
+ * face: 10 triangles). */
+static size_t make_cube(const double c[3], double h, double v[24], uint32_t t[36], int open)
+{
+    for (int i = 0; i < 8; ++i) {
+        v[3 * i + 0] = c[0] + ((i & 1) ? h : -h);
+        v[3 * i + 1] = c[1] + ((i & 2) ? h : -h);
+        v[3 * i + 2] = c[2] + ((i & 4) ? h : -h);
+    }
+    static const uint32_t f[12][3] = {
+        {0, 2, 1}, {1, 2, 3},           /* -z */
+        {0, 1, 4}, {1, 5, 4},           /* -y */
+        {0, 4, 2}, {2, 4, 6},           /* -x */
+        {1, 3, 5}, {3, 7, 5},           /* +x */
+        {2, 6, 3}, {3, 6, 7},           /* +y */
+        {4, 5, 6}, {5, 7, 6},           /* +z */
+    };
+    size_t n = open ? 10 : 12;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) t[3 * i + k] = f[i][k];
+    return n;
+}
+
+/* Regular icosahedron of circumradius r centred at c. */
+static void make_icosahedron(const double c[3], double r, double v[36], uint32_t t[60])
+{
+    const double phi = (1.0 + sqrt(5.0)) / 2.0, s = r / sqrt(1.0 + phi * phi);
+    const double raw[12][3] = {{-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0},
+                               {0, -1, phi}, {0, 1, phi}, {0, -1, -phi}, {0, 1, -phi},
+                               {phi, 0, -1}, {phi, 0, 1}, {-phi, 0, -1}, {-phi, 0, 1}};
+    static const uint32_t f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                      {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                      {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                      {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (int i = 0; i < 12; ++i)
+        for (int k = 0; k < 3; ++k) v[3 * i + k] = c[k] + s * raw[i][k];
+    for (int i = 0; i < 20; ++i)
+        for (int k = 0; k < 3; ++k) t[3 * i + k] = f[i][k];
+}
+
+static double sample_at(const vpv_levelset *ls, const double c[3], double dx, double dy, double dz)
+{
+    double p[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
+    return vpv_levelset_sample(ls, p);
+}
+
+/* Closed cube far from the origin (Dutch RD-like coordinates). */
+static void test_cube_levelset(void)
+{
+    const double c[3] = {155000.25, 463000.5, 12.0};
+    double v[24];
+    uint32_t t[36];
+    size_t nt = make_cube(c, 1.0, v, t, 0);
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, &ls, err, sizeof err);
+    if (rc) fprintf(stderr, "%s\n", err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_TRUE(ls != NULL);
+
+    vpv_levelset_info info;
+    vpv_levelset_get_info(ls, &info);
+    /* far from the origin the transform's round trip costs ~1e-11 */
+    ASSERT_NEAR(info.voxel_size, 0.05, 1e-9);
+    fprintf(stderr, "   cube: volume %g band %g active %zu inside %zu\n", info.volume, info.interior_band, info.active_voxels, info.inside_voxels);
+    ASSERT_NEAR(info.volume, 8.0, 8.0 * 0.02);
+    ASSERT_EQ_INT(info.leaked, 0);
+    ASSERT_TRUE(strcmp(info.name, "container") == 0);
+    ASSERT_NEAR(info.bmin[0], c[0] - 1.0, 0.3);
+    ASSERT_NEAR(info.bmax[1], c[1] + 1.0, 0.3);
+    ASSERT_TRUE(info.active_voxels > 0 && info.inside_voxels > 0);
+
+    ASSERT_TRUE(sample_at(ls, c, 0, 0, 0) < 0);          /* deep inside: -background */
+    ASSERT_TRUE(sample_at(ls, c, 1.5, 0, 0) > 0);        /* outside */
+    ASSERT_NEAR(sample_at(ls, c, 0.9, 0.1, -0.2), -0.1, 0.01);
+    ASSERT_NEAR(sample_at(ls, c, 0.1, 1.05, 0.3), 0.05, 0.01);
+    double p[3] = {c[0] + 0.93, c[1] + 0.1, c[2]}, g[3];
+    vpv_levelset_gradient(ls, p, g);
+    ASSERT_NEAR(g[0], 1.0, 0.02);
+    ASSERT_NEAR(g[1], 0.0, 0.05);
+    double far[3] = {c[0] + 50, c[1], c[2]};
+    vpv_levelset_gradient(ls, far, g); /* flat background: degenerate */
+    ASSERT_TRUE(g[0] == 0 && g[1] == 0 && g[2] == 0);
+
+    /* Interior band widened to the requested depth. */
+    ASSERT_TRUE(info.interior_band < 0.5);
+    rc = vpv_levelset_ensure_interior(ls, 0.5, err, sizeof err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    vpv_levelset_get_info(ls, &info);
+    ASSERT_GE(info.interior_band, 0.5);
+    ASSERT_NEAR(info.volume, 8.0, 8.0 * 0.02);
+    ASSERT_EQ_INT(info.leaked, 0);
+    ASSERT_NEAR(sample_at(ls, c, 0.5, 0.1, 0.0), -0.5, 0.01);
+    ASSERT_TRUE(strcmp(info.name, "container") == 0);
+    vpv_levelset_destroy(ls);
+    vpv_levelset_destroy(NULL);
+}
+
+static void test_icosahedron_levelset(void)
+{
+    const double c[3] = {1.0, -2.0, 0.5}, r = 1.0;
+    double v[36];
+    uint32_t t[60];
+    make_icosahedron(c, r, v, t);
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, &ls, err, sizeof err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    rc = vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    vpv_levelset_info info;
+    vpv_levelset_get_info(ls, &info);
+    const double a = r / sin(2.0 * M_PI / 5.0);
+    const double vol = 5.0 / 12.0 * (3.0 + sqrt(5.0)) * a * a * a;
+    ASSERT_NEAR(info.volume, vol, vol * 0.02);
+    ASSERT_GE(info.interior_band, 0.3);
+    ASSERT_EQ_INT(info.leaked, 0);
+    ASSERT_TRUE(sample_at(ls, c, 0, 0, 0) < -0.3 * 0.99);
+    ASSERT_TRUE(sample_at(ls, c, 0, 0, 1.2) > 0);
+    vpv_levelset_destroy(ls);
+}
+
+/* Bad inputs are refused with a code and a message. */
+static void test_mesh_bad_input(void)
+{
+    const double c[3] = {0, 0, 0};
+    double v[24];
+    uint32_t t[36];
+    size_t nt = make_cube(c, 1.0, v, t, 0);
+    vpv_levelset *ls = (vpv_levelset *)1;
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_TRUE(ls == NULL && err[0] != 0);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    t[5] = 8;
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    t[5] = 3;
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, &ls, err, sizeof err), VP_ERR_OUT_OF_MEMORY);
+    ASSERT_TRUE(strstr(err, "2000000") != NULL);
+    ASSERT_TRUE(strchr(err, '\n') == NULL);
+}
+
+static void test_open_mesh(void)
+{
+    const double c[3] = {0, 0, 0};
+    double v[24];
+    uint32_t t[36];
+    size_t nt = make_cube(c, 1.0, v, t, 1);
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, &ls, err, sizeof err);
+    fprintf(stderr, "   open cube: rc %d\n", rc);
+    if (rc == VP_OK) {
+        vpv_levelset_info info;
+        vpv_levelset_get_info(ls, &info);
+        fprintf(stderr, "   open cube: volume %g leaked %d inside %zu\n", info.volume, info.leaked,
+                info.inside_voxels);
+        double o[3] = {0, 0, 0};
+        (void)vpv_levelset_sample(ls, o);
+        rc = vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err);
+        fprintf(stderr, "   open cube: ensure_interior rc %d\n", rc);
+        vpv_levelset_destroy(ls);
+    }
+}
+
+typedef struct {
+    const vpv_levelset *ls;
+    const double *pts;
+    double *out;
+    int n;
+} sample_job;
+
+static void *sample_thread(void *arg)
+{
+    sample_job *j = arg;
+    for (int rep = 0; rep < 20; ++rep)
+        for (int i = 0; i < j->n; ++i) j->out[i] = vpv_levelset_sample(j->ls, j->pts + 3 * i);
+    return NULL;
+}
+
+/* Write, read back (by name, by default), compare samples; determinism. */
+static void test_levelset_roundtrip(void)
+{
+    const double c[3] = {3.0, 4.0, 5.0};
+    double v[36];
+    uint32_t t[60];
+    make_icosahedron(c, 1.0, v, t);
+    vpv_levelset *ls = NULL;
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, &ls, err, sizeof err), VP_OK);
+    char a[300], b[300];
+    tmp_path(a, sizeof a, "ls_a.vdb");
+    tmp_path(b, sizeof b, "ls_b.vdb");
+    vp_meta meta[3] = {{"generator", VP_META_STRING, "vdbpack test", 0, 0},
+                       {"seed", VP_META_INT, NULL, 42, 0},
+                       {"voxel", VP_META_DOUBLE, NULL, 0, 0.05}};
+    ASSERT_EQ_INT(vpv_levelset_write(ls, a, meta, 3, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(vpv_levelset_write(ls, b, meta, 3, err, sizeof err), VP_OK);
+    ASSERT_TRUE(same_bytes(a, b));
+
+    vpv_levelset *r1 = NULL, *r2 = NULL;
+    ASSERT_EQ_INT(vpv_levelset_read(a, "container", &r1, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(vpv_levelset_read(a, NULL, &r2, err, sizeof err), VP_OK);
+    vpv_levelset *r3 = (vpv_levelset *)1;
+    ASSERT_EQ_INT(vpv_levelset_read(a, "nope", &r3, err, sizeof err), VP_ERR_NOT_LEVEL_SET);
+    ASSERT_TRUE(r3 == NULL);
+    ASSERT_TRUE(strstr(err, "container") != NULL);
+
+    enum { N = 2000 };
+    static double pts[3 * N], s0[N], s1[N], s2[N];
+    srand(7);
+    for (int i = 0; i < N; ++i)
+        for (int k = 0; k < 3; ++k) pts[3 * i + k] = c[k] + 2.6 * ((double)rand() / RAND_MAX - 0.5);
+    for (int i = 0; i < N; ++i) {
+        double x0 = vpv_levelset_sample(ls, pts + 3 * i);
+        ASSERT_NEAR(vpv_levelset_sample(r1, pts + 3 * i), x0, 1e-6);
+        ASSERT_NEAR(vpv_levelset_sample(r2, pts + 3 * i), x0, 1e-6);
+        s0[i] = x0;
+    }
+    /* Concurrent sampling of two level sets from two threads. */
+    pthread_t th[2];
+    sample_job j1 = {r1, pts, s1, N}, j2 = {r2, pts, s2, N};
+    pthread_create(&th[0], NULL, sample_thread, &j1);
+    pthread_create(&th[1], NULL, sample_thread, &j2);
+    pthread_join(th[0], NULL);
+    pthread_join(th[1], NULL);
+    for (int i = 0; i < N; ++i) {
+        ASSERT_NEAR(s1[i], s0[i], 1e-6);
+        ASSERT_NEAR(s2[i], s0[i], 1e-6);
+    }
+    /* Free one and create another (possibly at the same address). */
+    vpv_levelset_destroy(r1);
+    ASSERT_EQ_INT(vpv_levelset_read(a, NULL, &r1, err, sizeof err), VP_OK);
+    for (int i = 0; i < N; i += 17) ASSERT_NEAR(vpv_levelset_sample(r1, pts + 3 * i), s0[i], 1e-6);
+
+    /* describe: metadata shown. */
+    char *text = NULL;
+    ASSERT_EQ_INT(vpv_describe_file(a, 0, &text, err, sizeof err), VP_OK);
+    ASSERT_TRUE(strstr(text, "generator = vdbpack test") != NULL);
+    ASSERT_TRUE(strstr(text, "level set") != NULL);
+    free(text);
+    ASSERT_EQ_INT(vpv_describe_file(a, 1, &text, err, sizeof err), VP_OK);
+    ASSERT_TRUE(strstr(text, "\"seed\":42") != NULL);
+    ASSERT_TRUE(strstr(text, "\"name\":\"container\"") != NULL);
+    free(text);
+
+    /* Truncated file -> FORMAT. */
+    size_t n;
+    unsigned char *bytes = slurp(a, &n);
+    char tr[300];
+    tmp_path(tr, sizeof tr, "truncated.vdb");
+    FILE *f = fopen(tr, "wb");
+    fwrite(bytes, 1, n / 2, f);
+    fclose(f);
+    free(bytes);
+    r3 = NULL;
+    int rc = vpv_levelset_read(tr, NULL, &r3, err, sizeof err);
+    fprintf(stderr, "   truncated: %d %s\n", rc, err);
+    ASSERT_TRUE(rc == VP_ERR_FORMAT || rc == VP_ERR_OUT_OF_MEMORY);
+    ASSERT_TRUE(r3 == NULL);
+
+    vpv_levelset_destroy(r1);
+    vpv_levelset_destroy(r2);
+    vpv_levelset_destroy(ls);
+}
+
+static void test_read_errors(void)
+{
+    char p[300];
+    vpv_levelset *ls = (vpv_levelset *)1;
+    tmp_path(p, sizeof p, "missing.vdb");
+    ASSERT_EQ_INT(vpv_levelset_read(p, NULL, &ls, err, sizeof err), VP_ERR_IO);
+    ASSERT_TRUE(ls == NULL);
+    ASSERT_TRUE(strstr(err, "missing.vdb: cannot open file (No such file or directory)") != NULL);
+
+    tmp_path(p, sizeof p, "garbage.vdb");
+    FILE *f = fopen(p, "wb");
+    for (int i = 0; i < 1000; ++i) fputc((i * 37) & 0xff, f);
+    fclose(f);
+    ASSERT_EQ_INT(vpv_levelset_read(p, NULL, &ls, err, sizeof err), VP_ERR_FORMAT);
+    ASSERT_TRUE(strstr(err, "garbage.vdb: not a readable .vdb file (") != NULL);
+    fprintf(stderr, "   garbage: %s\n", err);
+    vp_particles *pp = NULL;
+    ASSERT_EQ_INT(vpv_points_read(p, &pp, err, sizeof err), VP_ERR_FORMAT);
+    char *text = NULL;
+    ASSERT_EQ_INT(vpv_describe_file(p, 0, &text, err, sizeof err), VP_ERR_FORMAT);
+    ASSERT_TRUE(text == NULL);
+
+    const char *fog = VP_SHARED_CONTAINERS "/gaffer_smoke_fog.vdb";
+    if (file_exists(fog)) {
+        ASSERT_EQ_INT(vpv_levelset_read(fog, NULL, &ls, err, sizeof err), VP_ERR_NOT_LEVEL_SET);
+        fprintf(stderr, "   fog: %s\n", err);
+        ASSERT_TRUE(strstr(err, "'density' [fog volume, float]") != NULL);
+        ASSERT_TRUE(strstr(err, "gaffer_smoke_fog.vdb: ") != NULL);
+        ASSERT_EQ_INT(vpv_levelset_read(fog, "density", &ls, err, sizeof err), VP_ERR_NOT_LEVEL_SET);
+        fprintf(stderr, "   fog by name: %s\n", err);
+        ASSERT_EQ_INT(vpv_points_read(fog, &pp, err, sizeof err), VP_ERR_FORMAT);
+    } else {
+        fprintf(stderr, "   (skipped: %s absent)\n", fog);
+    }
+}
+
+static void test_shared_levelsets(void)
+{
+    const char *sph = VP_SHARED_CONTAINERS "/gaffer_ls_sphere.vdb";
+    vpv_levelset *ls = NULL;
+    vpv_levelset_info info;
+    if (file_exists(sph)) {
+        ASSERT_EQ_INT(vpv_levelset_read(sph, NULL, &ls, err, sizeof err), VP_OK);
+        vpv_levelset_get_info(ls, &info);
+        const double vol = 4.0 / 3.0 * M_PI * 27.0;
+        fprintf(stderr, "   sphere: volume %g (%g) band %g\n", info.volume, vol, info.interior_band);
+        ASSERT_NEAR(info.volume, vol, 0.03 * vol);
+        ASSERT_EQ_INT(info.leaked, 0);
+        ASSERT_TRUE(strcmp(info.name, "ls_sphere") == 0);
+        double o[3] = {0, 0, 0};
+        ASSERT_TRUE(vpv_levelset_sample(ls, o) < 0);
+        ASSERT_EQ_INT(vpv_levelset_ensure_interior(ls, 1.0, err, sizeof err), VP_OK);
+        vpv_levelset_get_info(ls, &info);
+        ASSERT_GE(info.interior_band, 1.0);
+        /* exact within the band (radius 3: 0.6 deep at r = 2.4), and beyond
+         * it at least as deep as the band (the background value) */
+        double q[3] = {2.4, 0, 0};
+        ASSERT_NEAR(vpv_levelset_sample(ls, q), -0.6, 0.1);
+        ASSERT_TRUE(vpv_levelset_sample(ls, o) <= -1.0);
+        vpv_levelset_destroy(ls);
+    } else {
+        fprintf(stderr, "   (skipped: %s absent)\n", sph);
+    }
+    const char *zeno = VP_SHARED_CONTAINERS "/zeno_res.vdb";
+    if (file_exists(zeno)) {
+        ASSERT_EQ_INT(vpv_levelset_read(zeno, NULL, &ls, err, sizeof err), VP_OK);
+        vpv_levelset_get_info(ls, &info);
+        ASSERT_TRUE(info.name[0] == 0);
+        ASSERT_TRUE(info.volume > 0);
+        vpv_levelset_destroy(ls);
+        ASSERT_EQ_INT(vpv_levelset_read(zeno, "", &ls, err, sizeof err), VP_OK);
+        vpv_levelset_destroy(ls);
+        char *text = NULL;
+        ASSERT_EQ_INT(vpv_describe_file(zeno, 0, &text, err, sizeof err), VP_OK);
+        ASSERT_TRUE(strstr(text, "(unnamed)") != NULL);
+        free(text);
+    }
+}
+
+static void free_particles(vp_particles *p)
+{
+    if (!p) return;
+    free(p->positions);
+    free(p->radii);
+    free(p->orients);
+    free(p->groups);
+    free(p);
+}
+
+static double json_number(const char *json, const char *key)
+{
+    const char *s = strstr(json, key);
+    ASSERT_TRUE(s != NULL);
+    return strtod(s + strlen(key), NULL);
+}
+
+static void check_points_file(const char *path, const vp_particles *src, int full)
+{
+    char *json = NULL;
+    ASSERT_EQ_INT(vpv_describe_file(path, 1, &json, err, sizeof err), VP_OK);
+    const double voxel = json_number(json, "\"voxel_size\":");
+    ASSERT_TRUE(voxel > 0);
+    ASSERT_TRUE(strstr(json, "\"points\":1000") != NULL);
+    ASSERT_TRUE(strstr(json, "{\"name\":\"orient\",\"type\":\"quats\"") != NULL);
+    ASSERT_TRUE(strstr(json, full ? "{\"name\":\"P\",\"type\":\"vec3s\",\"codec\":\"null\"}"
+                                   : "{\"name\":\"P\",\"type\":\"vec3s\",\"codec\":\"fxpt16\"}") != NULL);
+    free(json);
+
+    vp_particles *r = NULL;
+    int rc = vpv_points_read(path, &r, err, sizeof err);
+    if (rc) fprintf(stderr, "%s\n", err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_EQ_INT(r->count, src->count);
+    ASSERT_EQ_INT(r->capacity, src->count);
+    ASSERT_EQ_INT(r->group_count, src->group_count);
+    for (unsigned g = 0; g < src->group_count; ++g) ASSERT_TRUE(strcmp(r->group_names[g], src->group_names[g]) == 0);
+    ASSERT_TRUE(r->radii && r->orients && r->groups && r->has_orient);
+    ASSERT_EQ_INT(r->shape, VP_SHAPE_CUBE);
+    const double tol = full ? voxel * 1e-6 : voxel / 65535.0 * 2.0;
+    double maxerr = 0;
+    for (size_t i = 0; i < src->count; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            double e = fabs(r->positions[3 * i + k] - src->positions[3 * i + k]);
+            if (e > maxerr) maxerr = e;
+            ASSERT_LE(e, tol);
+        }
+        ASSERT_TRUE(r->radii[i] == src->radii[i]);
+        for (int k = 0; k < 4; ++k) ASSERT_TRUE(r->orients[4 * i + k] == src->orients[4 * i + k]);
+        ASSERT_EQ_INT(r->groups[i], src->groups[i]);
+    }
+    fprintf(stderr, "   %s: voxel %g, max position error %g (tol %g)\n", full ? "full" : "fxpt16", voxel,
+            maxerr, tol);
+    free_particles(r);
+}
+
+static void test_points(void)
+{
+    enum { N = 1000 };
+    vp_particles p;
+    memset(&p, 0, sizeof p);
+    p.count = p.capacity = N;
+    p.positions = malloc(sizeof(double) * 3 * N);
+    p.radii = malloc(sizeof(float) * N);
+    p.orients = malloc(sizeof(float) * 4 * N);
+    p.groups = malloc(sizeof(uint16_t) * N);
+    p.has_orient = 1;
+    p.shape = VP_SHAPE_CUBE;
+    p.group_count = 3;
+    strcpy(p.group_names[0], "inner");
+    strcpy(p.group_names[1], "outer");
+    strcpy(p.group_names[2], "top_layer");
+    srand(11);
+    for (int i = 0; i < N; ++i) {
+        p.positions[3 * i + 0] = 155000.0 + 10.0 * rand() / RAND_MAX;
+        p.positions[3 * i + 1] = 463000.0 + 10.0 * rand() / RAND_MAX;
+        p.positions[3 * i + 2] = -5.0 + 3.0 * rand() / RAND_MAX;
+        p.radii[i] = 0.1f + 0.01f * (float)(i % 7);
+        double q[4], n = 0;
+        for (int k = 0; k < 4; ++k) { q[k] = (double)rand() / RAND_MAX - 0.5; n += q[k] * q[k]; }
+        for (int k = 0; k < 4; ++k) p.orients[4 * i + k] = (float)(q[k] / sqrt(n));
+        p.groups[i] = (uint16_t)(i % 3 == 0 ? 0 : (i % 5 == 0 ? 2 : 1));
+    }
+    vp_meta meta[2] = {{"generator", VP_META_STRING, "vdbpack test", 0, 0},
+                       {"particle_count", VP_META_INT, NULL, N, 0}};
+    vp_write_params wp;
+    memset(&wp, 0, sizeof wp);
+    wp.meta = meta;
+    wp.meta_count = 2;
+
+    char a[300], b[300], f[300];
+    tmp_path(a, sizeof a, "points_a.vdb");
+    tmp_path(b, sizeof b, "points_b.vdb");
+    tmp_path(f, sizeof f, "points_full.vdb");
+    int rc = vpv_points_write(a, &p, &wp, err, sizeof err);
+    if (rc) fprintf(stderr, "%s\n", err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_EQ_INT(vpv_points_write(b, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_TRUE(same_bytes(a, b));
+    check_points_file(a, &p, 0);
+    wp.full_precision = 1;
+    ASSERT_EQ_INT(vpv_points_write(f, &p, &wp, err, sizeof err), VP_OK);
+    check_points_file(f, &p, 1);
+
+    /* Text description: quats, groups with counts. */
+    char *text = NULL;
+    ASSERT_EQ_INT(vpv_describe_file(a, 0, &text, err, sizeof err), VP_OK);
+    ASSERT_TRUE(strstr(text, "orient: quats") != NULL);
+    ASSERT_TRUE(strstr(text, "P: vec3s [fxpt16]") != NULL);
+    ASSERT_TRUE(strstr(text, "inner: 334") != NULL);
+    ASSERT_TRUE(strstr(text, "generator = vdbpack test") != NULL);
+    ASSERT_TRUE(strstr(text, "points: 1000") != NULL);
+    free(text);
+
+    /* OpenVDB's own vdb_print sees the grid and its point count. */
+    char cmd[400], line[512], all[8192] = "";
+    snprintf(cmd, sizeof cmd, "vdb_print -l '%s' 2>&1", a);
+    FILE *pipe = popen(cmd, "r");
+    if (pipe) {
+        size_t used = 0;
+        while (fgets(line, sizeof line, pipe) && used + strlen(line) < sizeof all) {
+            strcat(all, line);
+            used += strlen(line);
+        }
+        int st = pclose(pipe);
+        if (st == 0 && strstr(all, "not found") == NULL) {
+            ASSERT_TRUE(strstr(all, "points") != NULL);
+            ASSERT_TRUE(strstr(all, "1000") != NULL || strstr(all, "1,000") != NULL);
+            ASSERT_TRUE(strstr(all, "vec4") == NULL);
+        } else {
+            fprintf(stderr, "   (vdb_print unavailable: %s)\n", all);
+        }
+    }
+
+    /* Uniform radius/orient, no per-point groups. */
+    free(p.radii);
+    free(p.orients);
+    free(p.groups);
+    p.radii = NULL;
+    p.orients = NULL;
+    p.groups = NULL;
+    p.uniform_radius = 0.25f;
+    p.uniform_orient[0] = 0; p.uniform_orient[1] = 0; p.uniform_orient[2] = 0.6f; p.uniform_orient[3] = 0.8f;
+    p.group_count = 1;
+    strcpy(p.group_names[0], "all");
+    p.shape = VP_SHAPE_SPHERE;
+    wp.full_precision = 0;
+    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_OK);
+    vp_particles *r = NULL;
+    ASSERT_EQ_INT(vpv_points_read(a, &r, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(r->count, N);
+    ASSERT_TRUE(r->radii == NULL && r->uniform_radius == 0.25f);
+    ASSERT_TRUE(r->orients == NULL && r->has_orient == 1 && r->uniform_orient[2] == 0.6f && r->uniform_orient[3] == 0.8f);
+    ASSERT_TRUE(r->groups == NULL && r->group_count == 1 && strcmp(r->group_names[0], "all") == 0);
+    ASSERT_EQ_INT(r->shape, VP_SHAPE_SPHERE);
+    free_particles(r);
+
+    /* Invalid group name. */
+    strcpy(p.group_names[0], "bad name");
+    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    strcpy(p.group_names[0], "all");
+
+    /* One particle, then none. */
+    p.count = 1;
+    p.has_orient = 0;
+    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(vpv_points_read(a, &r, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(r->count, 1);
+    ASSERT_TRUE(r->has_orient == 0 && r->orients == NULL);
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(r->positions[k], p.positions[k], 0.5 / 65535.0 * 2);
+    free_particles(r);
+    p.count = 0;
+    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(vpv_points_read(a, &r, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(r->count, 0);
+    ASSERT_TRUE(r->group_count >= 1);
+    free_particles(r);
+
+    /* Unwritable path -> IO. */
+    ASSERT_EQ_INT(vpv_points_write("/nonexistent-dir/x.vdb", &p, &wp, err, sizeof err), VP_ERR_IO);
+    fprintf(stderr, "   unwritable: %s\n", err);
+
+    free(p.positions);
+}
+
+int main(void)
+{
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/test_vdb_bridge.XXXXXX");
+    ASSERT_TRUE(mkdtemp(tmpdir) != NULL);
+    vpv_init();
+    RUN_TEST(test_cube_levelset);
+    RUN_TEST(test_icosahedron_levelset);
+    RUN_TEST(test_mesh_bad_input);
+    RUN_TEST(test_open_mesh);
+    RUN_TEST(test_levelset_roundtrip);
+    RUN_TEST(test_read_errors);
+    RUN_TEST(test_shared_levelsets);
+    RUN_TEST(test_points);
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", tmpdir);
+    fprintf(stderr, "all vdb bridge tests passed\n");
+    return vp_test_failures;
+}
