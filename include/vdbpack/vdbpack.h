@@ -280,6 +280,12 @@ vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out);
  * (JSON if json != 0) owned by the caller (free()). */
 vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out);
 
+/* Per-topic parts of the API. */
+#include "vdbpack/size_dist.h"
+#include "vdbpack/rsa.h"
+#include "vdbpack/relax.h"
+#include "vdbpack/check.h"
+
 #ifdef __cplusplus
 }
 #endif

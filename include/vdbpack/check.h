@@ -1,0 +1,43 @@
+/* Independent verification of a packing (part of vdbpack.h): overlaps,
+ * particles crossing the wall, packing fraction and contacts, recomputed
+ * from positions, radii, orientations and the shape alone. */
+#ifndef VDBPACK_CHECK_H
+#define VDBPACK_CHECK_H
+
+#ifndef VDBPACK_VDBPACK_H
+#error "include vdbpack/vdbpack.h"
+#endif
+
+typedef struct vp_check_params {
+    vp_fit fit;
+    double overlap_tolerance; /* overlaps up to this fraction of r_i + r_j
+                                 (spheres; of the smaller bounding radius for
+                                 solids) are not violations; default 1e-6 */
+    double contact_tolerance; /* gaps up to this fraction of r_i + r_j count
+                                 as contacts; default 1e-3 */
+    double wall_tolerance;    /* world distance a particle may cross the wall
+                                 by; < 0 = automatic (a tenth of the container's
+                                 voxel size, 1e-9 for analytic containers) */
+} vp_check_params;
+void vp_check_params_init(vp_check_params *p);
+
+typedef struct vp_check_report {
+    size_t count;
+    size_t overlapping_pairs;   /* beyond overlap_tolerance */
+    double max_overlap;         /* largest overlap / (r_i + r_j); 0 if none */
+    double max_overlap_world;   /* the same in world units (penetration depth) */
+    size_t outside;             /* particles violating fit beyond wall_tolerance */
+    double max_outside;         /* largest violation, world units; 0 if none */
+    double particle_volume;
+    double container_volume;
+    double fraction;
+    double mean_contacts;       /* contacts per particle (pairs * 2 / count) */
+    size_t contact_pairs;
+    double seconds;
+} vp_check_report;
+
+/* Returns VP_OK when the check ran (violations are in the report, not in the
+ * result). */
+vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_particles *p,
+                             const vp_check_params *params, vp_check_report *report);
+#endif

@@ -1,0 +1,42 @@
+/* The relaxation packer (part of vdbpack.h), after He, Ekere & Cai (1999):
+ * random centres with overlaps, then overlap relaxation (each overlapped
+ * sphere moves to the mean of its non-overlapping positions against its
+ * neighbours and the wall) alternating with a small radius relaxation
+ * (shrinking only what still overlaps) until the largest overlap is at most
+ * `tolerance` of r_i + r_j. */
+#ifndef VDBPACK_RELAX_H
+#define VDBPACK_RELAX_H
+
+#ifndef VDBPACK_VDBPACK_H
+#error "include vdbpack/vdbpack.h"
+#endif
+
+typedef struct vp_relax_params {
+    vp_fit fit;
+    vp_size_dist radius;     /* initial radii */
+    size_t count;            /* spheres */
+    double target_fraction;  /* > 0: scale the radii so that the spheres'
+                                volume is this fraction of the container's
+                                before relaxation; 0 = radii as given */
+    double tolerance;        /* largest overlap / (r_i + r_j) at the end;
+                                default 1e-6 */
+    int max_sweeps;          /* 0 = automatic */
+    uint64_t seed;
+} vp_relax_params;
+void vp_relax_params_init(vp_relax_params *p);
+
+typedef struct vp_relax_report {
+    size_t count;
+    int sweeps;
+    double radius_scale;     /* final radius / initial radius (<= 1) */
+    double initial_fraction; /* spheres' volume / container volume, before */
+    double max_overlap;      /* largest overlap / (r_i + r_j) at the end */
+    double particle_volume;
+    double seconds;
+} vp_relax_report;
+
+/* *out is owned by the caller; report may be NULL. Deterministic in seed
+ * whatever the thread count. */
+vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_params *params,
+                        vp_particles **out, vp_relax_report *report);
+#endif

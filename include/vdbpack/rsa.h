@@ -1,0 +1,62 @@
+/* Random sequential addition of spheres (part of vdbpack.h): one or more
+ * passes, each a count (or "maximal": until no room is left), a radius
+ * distribution, a retry limit and an optional grow step. Pass k's particles
+ * form group "passk" (or the pass's name). */
+#ifndef VDBPACK_RSA_H
+#define VDBPACK_RSA_H
+
+#ifndef VDBPACK_VDBPACK_H
+#error "include vdbpack/vdbpack.h"
+#endif
+
+#define VP_RSA_DEFAULT_RETRIES 5000
+
+typedef struct vp_rsa_pass {
+    size_t count;          /* particles wanted (ignored when maximal) */
+    int maximal;           /* 1: fill until no centre of this pass's radius fits
+                              anywhere (a maximal set; constant radius only) */
+    vp_size_dist radius;   /* bounding-sphere radius */
+    int retries;           /* consecutive failed tries after which the pass
+                              ends; 0 = VP_RSA_DEFAULT_RETRIES */
+    int grow;              /* after the pass, grow its particles until each
+                              touches a neighbour (or the wall with fit inside) */
+    char name[VP_GROUP_NAME_MAX]; /* group name; "" = "passK" (K from 1) */
+} vp_rsa_pass;
+void vp_rsa_pass_init(vp_rsa_pass *p);
+
+typedef struct vp_rsa_params {
+    vp_fit fit;
+    const vp_rsa_pass *passes; /* not owned; npasses in 1..VP_MAX_GROUPS */
+    size_t npasses;
+    uint64_t seed;
+} vp_rsa_params;
+void vp_rsa_params_init(vp_rsa_params *p);
+
+typedef enum vp_rsa_stop {
+    VP_RSA_STOP_COUNT = 0, /* placed every particle asked for */
+    VP_RSA_STOP_RETRIES,   /* a particle failed `retries` times in a row */
+    VP_RSA_STOP_MAXIMAL    /* maximal mode: no room left */
+} vp_rsa_stop;
+
+typedef struct vp_rsa_pass_report {
+    size_t requested;      /* count (0 for maximal) */
+    size_t placed;
+    vp_rsa_stop stop;
+    uint64_t tries;        /* candidate centres tested */
+    double grow_mean;      /* with grow: mean final/initial radius; else 1 */
+    double seconds;
+} vp_rsa_pass_report;
+
+typedef struct vp_rsa_report {
+    size_t npasses;
+    vp_rsa_pass_report passes[VP_MAX_GROUPS];
+    double particle_volume;
+    double seconds;
+} vp_rsa_report;
+
+/* Fills container c; *out (owned by the caller) has radii, groups and no
+ * orient. Deterministic in params->seed whatever the thread count. report
+ * may be NULL. */
+vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
+                      vp_particles **out, vp_rsa_report *report);
+#endif

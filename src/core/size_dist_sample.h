@@ -1,0 +1,10 @@
+/* Sampling a vp_size_dist (internal to the core). */
+#ifndef VDBPACK_CORE_SIZE_DIST_SAMPLE_H
+#define VDBPACK_CORE_SIZE_DIST_SAMPLE_H
+
+#include <stdint.h>
+#include "vdbpack/vdbpack.h"
+
+/* One radius drawn with the rng state s (see rng.h); deterministic. */
+double vp_size_dist_sample(const vp_size_dist *d, uint64_t *s);
+#endif
