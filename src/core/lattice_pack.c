@@ -385,10 +385,15 @@ typedef struct search_cfg {
     int offsets;   /* stage-one offsets per orientation */
     int rotations; /* orientations (1 = identity only) */
     int refine;    /* pattern-search refinement */
+    int budgeted;  /* automatic offsets: cap the point tests (see search) */
     uint64_t seed;
     int threads;
     vp_context *ctx;
 } search_cfg;
+
+/* Point tests the automatic search may spend per stage (about
+ * a tenth of a second); explicit --offsets are not capped. */
+#define VP_SEARCH_BUDGET 1.0e6
 
 typedef struct search_stats {
     int offsets_tried;
@@ -439,6 +444,18 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
             free(best_cl.amb);
             return vp_fail(cfg->ctx, VP_ERR_OUT_OF_MEMORY, "lattice: out of memory");
         }
+        if (cfg->budgeted && rot == 0) {
+            /* Each offset re-tests every ambiguous point, a shell about the
+             * wall whose share of all points falls as 1/N^(1/3): for large
+             * packings the search costs seconds and gains a few particles
+             * in a million. Spend at most VP_SEARCH_BUDGET point tests in
+             * stage one (and as many in refinement), with at least 8
+             * offsets per orientation. */
+            double per = (double)(cl.namb ? cl.namb : 1) * nrot;
+            int cap = (int)(VP_SEARCH_BUDGET / per);
+            if (cap < 8) cap = 8;
+            if (cap < noff) noff = cap;
+        }
         eval_many(&s, &cl, (const double(*)[3])u, (size_t)noff, counts, cfg->threads);
         st->offsets_tried += noff;
         st->rotations_tried++;
@@ -467,7 +484,12 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
     if (cfg->refine && noff > 1) {
         double step = 0.5 / cbrt((double)noff);
         int evals = 0;
-        while (step > 0.004 && evals < 400) {
+        int max_evals = 400;
+        if (cfg->budgeted) {
+            double cap = VP_SEARCH_BUDGET / (double)(best_cl.namb ? best_cl.namb : 1);
+            if (cap < max_evals) max_evals = cap < 12 ? 12 : (int)cap;
+        }
+        while (step > 0.004 && evals < max_evals) {
             double cand[6][3];
             size_t cc[6];
             for (int k = 0; k < 6; k++) {
@@ -652,40 +674,59 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
         cfg.refine = params->offsets > 1;
     } else {
         cfg.offsets = params->rotate ? 32 : 128;
+        cfg.budgeted = 1;
     }
 
     vp_lattice_report rep;
     memset(&rep, 0, sizeof rep);
     placement best;
     search_stats st = {0, 0};
-    vp_result res = search(&cfg, r, &best, &st);
+    /* Count mode finds the radius with one offset per radius (the search
+     * moves the count by a fraction of a per cent), then searches once. */
+    search_cfg quick = cfg;
+    quick.offsets = 1;
+    quick.rotations = 1;
+    quick.refine = 0;
+    quick.budgeted = 0;
+    vp_result res = search(count_mode ? &quick : &cfg, r, &best, &st);
     if (res != VP_OK) return res;
     rep.radius_iterations = 1;
     if (count_mode) {
-        /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest */
+        /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest.
+         * First with the quick evaluation, then (the search adds particles,
+         * a lot of them in small packings) with the full search, which for
+         * large packings is already within 1 % on its first try. */
         double target = (double)params->count;
-        double best_r = r, best_err = fabs((double)best.count - target);
-        placement best_p = best;
-        for (int it = 0; it < 16 && best_err > 0.01 * target; it++) {
-            double ratio = best.count ? (double)best.count / target : 0.125;
-            double nr = r * cbrt(ratio);
-            if (params->fit == VP_FIT_INSIDE && nr > c->info.interior_band)
-                nr = c->info.interior_band;
-            if (nr == r) break;
-            r = nr;
-            if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
-            res = search(&cfg, r, &best, &st);
-            if (res != VP_OK) return res;
-            rep.radius_iterations++;
-            double e = fabs((double)best.count - target);
-            if (e < best_err) {
-                best_err = e;
-                best_r = r;
-                best_p = best;
+        for (int phase = 0; phase < 2; phase++) {
+            const search_cfg *sc = phase ? &cfg : &quick;
+            if (phase) {
+                if (cfg.offsets <= 1 && cfg.rotations <= 1) break;
+                res = search(&cfg, r, &best, &st);
+                if (res != VP_OK) return res;
             }
+            double best_r = r, best_err = fabs((double)best.count - target);
+            placement best_p = best;
+            for (int it = 0; it < 16 && best_err > 0.01 * target; it++) {
+                double ratio = best.count ? (double)best.count / target : 0.125;
+                double nr = r * cbrt(ratio);
+                if (params->fit == VP_FIT_INSIDE && nr > c->info.interior_band)
+                    nr = c->info.interior_band;
+                if (nr == r) break;
+                r = nr;
+                if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
+                res = search(sc, r, &best, &st);
+                if (res != VP_OK) return res;
+                rep.radius_iterations++;
+                double e = fabs((double)best.count - target);
+                if (e < best_err) {
+                    best_err = e;
+                    best_r = r;
+                    best_p = best;
+                }
+            }
+            r = best_r;
+            best = best_p;
         }
-        r = best_r;
-        best = best_p;
     }
     setup s;
     setup_build(&s, c, &lb, poly, params->fit, r, best.q);

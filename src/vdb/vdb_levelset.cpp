@@ -142,7 +142,37 @@ extern "C" double vpv_levelset_sample(const vpv_levelset *ls, const double p[3])
     if (!ls || !ls->grid) return HUGE_VAL;
     openvdb::Vec3d w(p[0], p[1], p[2]);
     openvdb::Vec3d idx = ls->affine ? ls->w2i.transform(w) : ls->grid->transform().worldToIndex(w);
-    return double(openvdb::tools::BoxSampler::sample(accessor(ls), idx));
+    Acc &acc = accessor(ls);
+    // Fast path: when the 8 corners lie in one 8^3 leaf (about 2/3 of
+    // lookups), read them from its buffer instead of 8 accessor calls; the
+    // sampling packers spend most of their time here. Same trilinear weights
+    // as tools::BoxSampler, evaluated in double.
+    const double fx = std::floor(idx[0]), fy = std::floor(idx[1]), fz = std::floor(idx[2]);
+    if (std::abs(fx) < 1e9 && std::abs(fy) < 1e9 && std::abs(fz) < 1e9) {
+        const openvdb::Coord ijk{static_cast<int>(fx), static_cast<int>(fy), static_cast<int>(fz)};
+        if ((ijk[0] & 7) != 7 && (ijk[1] & 7) != 7 && (ijk[2] & 7) != 7) {
+            const auto *leaf = acc.probeConstLeaf(ijk);
+            // No leaf: the 8 corners lie in one tile (deep inside or far
+            // outside), all of one value, which is then the trilinear value.
+            if (!leaf) return double(acc.getValue(ijk));
+            {
+                const float *v = leaf->buffer().data();
+                if (v) {
+                    const openvdb::Index o = leaf->coordToOffset(ijk);
+                    // LeafNode<float,3> offsets: x * 64 + y * 8 + z
+                    const double tx = idx[0] - fx, ty = idx[1] - fy, tz = idx[2] - fz;
+                    const double c000 = v[o], c001 = v[o + 1], c010 = v[o + 8], c011 = v[o + 9];
+                    const double c100 = v[o + 64], c101 = v[o + 65], c110 = v[o + 72],
+                                 c111 = v[o + 73];
+                    const double c00 = c000 + (c001 - c000) * tz, c01 = c010 + (c011 - c010) * tz;
+                    const double c10 = c100 + (c101 - c100) * tz, c11 = c110 + (c111 - c110) * tz;
+                    const double c0 = c00 + (c01 - c00) * ty, c1 = c10 + (c11 - c10) * ty;
+                    return c0 + (c1 - c0) * tx;
+                }
+            }
+        }
+    }
+    return double(openvdb::tools::BoxSampler::sample(acc, idx));
 }
 
 extern "C" void vpv_levelset_gradient(const vpv_levelset *ls, const double p[3], double g[3])
