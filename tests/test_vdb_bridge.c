@@ -447,6 +447,16 @@ static void check_points_file(const char *path, const vp_particles *src, int ful
         for (int k = 0; k < 4; ++k) ASSERT_TRUE(r->orients[4 * i + k] == src->orients[4 * i + k]);
         ASSERT_EQ_INT(r->groups[i], src->groups[i]);
     }
+    /* the reader's stated bound holds for every position (as a vector) and
+     * is the codec's: one 16-bit step per component, or float rounding */
+    for (size_t i = 0; i < src->count; ++i) {
+        double dx = r->positions[3 * i] - src->positions[3 * i],
+               dy = r->positions[3 * i + 1] - src->positions[3 * i + 1],
+               dz = r->positions[3 * i + 2] - src->positions[3 * i + 2];
+        ASSERT_LE(sqrt(dx * dx + dy * dy + dz * dz), r->position_error * (1 + 1e-9) + 1e-12 * voxel);
+    }
+    if (full) ASSERT_LE(r->position_error, voxel * 2e-7); /* float: 2^-24 per component */
+    else ASSERT_NEAR(r->position_error, sqrt(3.0) * voxel / 65535.0, 1e-6 * voxel / 65535.0);
     fprintf(stderr, "   %s: voxel %g, max position error %g (tol %g)\n", full ? "full" : "fxpt16", voxel,
             maxerr, tol);
     free_particles(r);

@@ -191,6 +191,10 @@ typedef struct vp_particles {
     uint16_t *groups;       /* count group indices, or NULL: all in group 0 */
     unsigned group_count;   /* >= 1 */
     char group_names[VP_MAX_GROUPS][VP_GROUP_NAME_MAX];
+    double position_error;  /* read from a file: the largest error (world
+                               units) of a stored position against the one
+                               written, from P's codec (16-bit fixed point:
+                               sqrt(3) * voxel / 65535); 0 otherwise */
 } vp_particles;
 
 vp_result vp_particles_create(vp_context *ctx, size_t capacity, vp_particles **out);

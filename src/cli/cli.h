@@ -20,6 +20,12 @@ int vp_cli_parse_double(const char *s, double *out);
 int vp_cli_parse_u64(const char *s, uint64_t *out);
 /* "8G", "500M", "1024" (bytes). */
 int vp_cli_parse_size(const char *s, uint64_t *out);
+/* Random packers' options (passes.c); 0 or the exit status after printing
+ * one line. */
+struct vp_size_dist;
+struct vp_rsa_pass;
+int vp_cli_parse_sizes(const char *opt, const char *text, struct vp_size_dist *out);
+int vp_cli_parse_pass(const char *text, struct vp_rsa_pass *out);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

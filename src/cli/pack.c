@@ -18,8 +18,18 @@ typedef struct pack_opts {
     vp_shape shape;
     vp_lattice lattice;
     vp_fit fit;
-    double radius;
+    double radius;          /* lattice: the radius */
+    const char *radius_text;
+    vp_size_dist sizes;     /* rsa/relax: --radius as a distribution */
     uint64_t count;
+    int count_max;          /* rsa: --count max */
+    vp_rsa_pass passes[VP_MAX_GROUPS];
+    int npasses;
+    uint64_t retries;
+    int grow;
+    double target_fraction;
+    double tolerance;
+    int precision_set;
     uint64_t offsets;
     int rotate;
     uint64_t rotations;
@@ -64,6 +74,79 @@ static int on_progress(void *user, double fraction, const char *stage) {
 
 /* --- option parsing -------------------------------------------------------- */
 
+/* Which options go with which method, and defaults that depend on it. */
+static int check_method_options(pack_opts *o, int have_radius, int have_count) {
+    const char *m = o->method;
+    int lattice = !strcmp(m, "lattice"), rsa = !strcmp(m, "rsa"), relax = !strcmp(m, "relax");
+    if (!lattice && (o->lattice != VP_LATTICE_DEFAULT || o->offsets || o->rotate || o->rotations))
+        return vp_cli_die(2, "pack: --lattice, --offsets, --rotate and --rotations go with "
+                             "--method lattice");
+    if (!rsa && (o->npasses || o->retries || o->grow))
+        return vp_cli_die(2, "pack: --pass, --retries and --grow go with --method rsa");
+    if (!relax && (o->target_fraction > 0 || o->tolerance > 0))
+        return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax");
+    if (!rsa && o->count_max)
+        return vp_cli_die(2, "pack: --count max goes with --method rsa");
+    if (!lattice && o->shape != VP_SHAPE_SPHERE)
+        return vp_cli_die(2, "pack: --method %s packs spheres in this version (--shape %s needs "
+                             "--method lattice)", m, vp_shape_name(o->shape));
+    /* Random packings have particles in contact (grow, relax) or nearly so:
+     * 16-bit fixed-point positions (1/65536 of a points voxel) would turn
+     * contacts into overlaps, so they default to full precision. */
+    if (!lattice && !o->precision_set) o->full_precision = 1;
+    if (lattice) {
+        if (have_radius && have_count)
+            return vp_cli_die(2, "pack: give either --radius or --count, not both");
+        if (!have_radius && !have_count)
+            return vp_cli_die(2, "pack: give the particle size with --radius R or --count N");
+        if (have_radius && (vp_cli_parse_double(o->radius_text, &o->radius) != 0 ||
+                            !(o->radius > 0)))
+            return vp_cli_die(2, "pack: --radius must be a positive number, not '%s'",
+                              o->radius_text);
+        if (o->shape == VP_SHAPE_SPHERE && o->lattice == VP_LATTICE_DENSEST)
+            o->lattice = VP_LATTICE_FCC;
+        if (o->shape != VP_SHAPE_SPHERE && o->lattice != VP_LATTICE_DEFAULT &&
+            o->lattice != VP_LATTICE_DENSEST)
+            return vp_cli_die(2, "pack: --lattice %s is for spheres; a %s packs on its densest "
+                                 "lattice (--lattice densest)", vp_lattice_name(o->lattice),
+                              vp_shape_name(o->shape));
+        return 0;
+    }
+    if (rsa) {
+        if (o->npasses && (have_radius || have_count))
+            return vp_cli_die(2, "pack: give either --pass options or --radius with --count "
+                                 "(one pass), not both");
+        if (!o->npasses) {
+            if (!have_radius || !have_count)
+                return vp_cli_die(2, "pack: --method rsa needs --pass count=N,radius=R (one or "
+                                     "more) or --radius R with --count N|max");
+            vp_rsa_pass *ps = &o->passes[0];
+            vp_rsa_pass_init(ps);
+            int rc = vp_cli_parse_sizes("--radius", o->radius_text, &ps->radius);
+            if (rc) return rc;
+            ps->count = (size_t)o->count;
+            ps->maximal = o->count_max;
+            ps->grow = o->grow;
+            o->npasses = 1;
+        } else if (o->grow) {
+            return vp_cli_die(2, "pack: with --pass, ask for growth in the pass (--pass "
+                                 "count=N,radius=R,grow)");
+        }
+        for (int i = 0; i < o->npasses; i++) {
+            if (o->retries && !o->passes[i].retries) o->passes[i].retries = (int)o->retries;
+            if (o->passes[i].maximal && o->passes[i].radius.kind != VP_SIZE_CONSTANT)
+                return vp_cli_die(2, "pack: pass %d: count=max needs a single radius, not a "
+                                     "distribution", i + 1);
+        }
+        return 0;
+    }
+    /* relax */
+    if (!have_radius || !have_count)
+        return vp_cli_die(2, "pack: --method relax needs --radius R (or a distribution) and "
+                             "--count N");
+    return vp_cli_parse_sizes("--radius", o->radius_text, &o->sizes);
+}
+
 static int need_value(int argc, char **argv, int *i, const char **val) {
     if (*i + 1 >= argc) return vp_cli_die(2, "pack: %s needs a value", argv[*i]);
     *val = argv[++*i];
@@ -87,12 +170,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             o->output = v;
         } else if (!strcmp(a, "--method")) {
             VALUE();
-            if (strcmp(v, "lattice") != 0) {
-                if (!strcmp(v, "rsa") || !strcmp(v, "relax"))
-                    return vp_cli_die(2, "pack: --method %s is not available in this version "
-                                         "(only lattice)", v);
-                return vp_cli_die(2, "pack: unknown --method '%s' (lattice)", v);
-            }
+            if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0)
+                return vp_cli_die(2, "pack: unknown --method '%s' (lattice, rsa, relax)", v);
             o->method = v;
         } else if (!strcmp(a, "--shape")) {
             VALUE();
@@ -106,14 +185,43 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
                                   v);
         } else if (!strcmp(a, "--radius")) {
             VALUE();
-            if (vp_cli_parse_double(v, &o->radius) != 0 || !(o->radius > 0))
-                return vp_cli_die(2, "pack: --radius must be a positive number, not '%s'", v);
+            o->radius_text = v; /* a number, or a distribution for rsa/relax: see below */
             have_radius = 1;
         } else if (!strcmp(a, "--count")) {
             VALUE();
-            if (vp_cli_parse_u64(v, &o->count) != 0 || o->count == 0)
-                return vp_cli_die(2, "pack: --count must be a whole number > 0, not '%s'", v);
+            if (!strcmp(v, "max")) {
+                o->count_max = 1;
+            } else if (vp_cli_parse_u64(v, &o->count) != 0 || o->count == 0) {
+                return vp_cli_die(2, "pack: --count must be a whole number > 0%s, not '%s'",
+                                  " (or max with --method rsa)", v);
+            }
             have_count = 1;
+        } else if (!strcmp(a, "--pass")) {
+            VALUE();
+            if (o->npasses >= VP_MAX_GROUPS)
+                return vp_cli_die(2, "pack: at most %d --pass options", VP_MAX_GROUPS);
+            if ((rc = vp_cli_parse_pass(v, &o->passes[o->npasses])) != 0) return rc;
+            o->npasses++;
+        } else if (!strcmp(a, "--retries")) {
+            VALUE();
+            if (vp_cli_parse_u64(v, &o->retries) != 0 || o->retries == 0 ||
+                o->retries > 1000000000)
+                return vp_cli_die(2, "pack: --retries must be a whole number in 1..1e9, not '%s'",
+                                  v);
+        } else if (!strcmp(a, "--grow")) {
+            o->grow = 1;
+        } else if (!strcmp(a, "--target-fraction")) {
+            VALUE();
+            if (vp_cli_parse_double(v, &o->target_fraction) != 0 || !(o->target_fraction > 0) ||
+                !(o->target_fraction < 1))
+                return vp_cli_die(2, "pack: --target-fraction must be a number in (0, 1), "
+                                     "not '%s'", v);
+        } else if (!strcmp(a, "--tolerance")) {
+            VALUE();
+            if (vp_cli_parse_double(v, &o->tolerance) != 0 || !(o->tolerance > 0) ||
+                !(o->tolerance < 0.1))
+                return vp_cli_die(2, "pack: --tolerance must be a number in (0, 0.1), not '%s'",
+                                  v);
         } else if (!strcmp(a, "--fit")) {
             VALUE();
             if (!strcmp(v, "inside")) o->fit = VP_FIT_INSIDE;
@@ -151,6 +259,7 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             if (!strcmp(v, "full") || !strcmp(v, "float")) o->full_precision = 1;
             else if (!strcmp(v, "fixed16") || !strcmp(v, "16")) o->full_precision = 0;
             else return vp_cli_die(2, "pack: unknown --precision '%s' (fixed16, full)", v);
+            o->precision_set = 1;
         } else if (!strcmp(a, "--save-container")) {
             VALUE();
             o->save_container = v;
@@ -183,16 +292,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     }
     if (!o->container) return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
-    if (have_radius && have_count)
-        return vp_cli_die(2, "pack: give either --radius or --count, not both");
-    if (!have_radius && !have_count)
-        return vp_cli_die(2, "pack: give the particle size with --radius R or --count N");
-    if (o->shape == VP_SHAPE_SPHERE && o->lattice == VP_LATTICE_DENSEST) o->lattice = VP_LATTICE_FCC;
-    if (o->shape != VP_SHAPE_SPHERE && o->lattice != VP_LATTICE_DEFAULT &&
-        o->lattice != VP_LATTICE_DENSEST)
-        return vp_cli_die(2, "pack: --lattice %s is for spheres; a %s packs on its densest "
-                             "lattice (--lattice densest)", vp_lattice_name(o->lattice),
-                          vp_shape_name(o->shape));
+    int rc = check_method_options(o, have_radius, have_count);
+    if (rc) return rc;
     return 0;
 }
 
@@ -242,6 +343,220 @@ static const char *kind_name(vp_container_kind k) {
     return k == VP_CONTAINER_MESH ? "mesh" : k == VP_CONTAINER_LEVEL_SET ? "level_set" : "analytic";
 }
 
+/* What a method produced, for metadata and the summary. */
+typedef struct run_result {
+    vp_lattice_report lat;
+    vp_rsa_report rsa;
+    vp_relax_report relax;
+    double pack_seconds;
+    double max_radius;
+} run_result;
+
+static const char *lattice_label(const pack_opts *o) {
+    return vp_lattice_name(o->lattice == VP_LATTICE_DEFAULT
+                               ? (o->shape == VP_SHAPE_SPHERE ? VP_LATTICE_FCC : VP_LATTICE_DENSEST)
+                               : o->lattice);
+}
+
+static const char *stop_name(vp_rsa_stop s) {
+    return s == VP_RSA_STOP_COUNT ? "count" : s == VP_RSA_STOP_RETRIES ? "retries" : "maximal";
+}
+
+/* Largest bounding radius the method can produce (sizes the level set's
+ * interior band), or 0 when only a count is known. */
+static double largest_radius(const pack_opts *o) {
+    if (!strcmp(o->method, "lattice")) return o->radius;
+    if (!strcmp(o->method, "rsa")) {
+        double m = 0;
+        for (int i = 0; i < o->npasses; i++) {
+            double r = vp_size_dist_max(&o->passes[i].radius);
+            if (r > m) m = r;
+        }
+        return m;
+    }
+    return o->target_fraction > 0 ? 0.0 : vp_size_dist_max(&o->sizes);
+}
+
+static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o,
+                            vp_particles **p, run_result *rr) {
+    memset(rr, 0, sizeof *rr);
+    vp_result r;
+    if (!strcmp(o->method, "lattice")) {
+        vp_lattice_params lp;
+        vp_lattice_params_init(&lp);
+        lp.shape = o->shape;
+        lp.lattice = o->lattice;
+        lp.fit = o->fit;
+        lp.radius = o->radius;
+        lp.count = (size_t)o->count;
+        lp.offsets = (int)o->offsets;
+        lp.rotate = o->rotate;
+        lp.rotations = (int)o->rotations;
+        lp.seed = o->seed;
+        r = vp_pack_lattice(ctx, c, &lp, p, &rr->lat);
+        rr->pack_seconds = rr->lat.seconds;
+        rr->max_radius = rr->lat.radius;
+    } else if (!strcmp(o->method, "rsa")) {
+        vp_rsa_params rp;
+        vp_rsa_params_init(&rp);
+        rp.fit = o->fit;
+        rp.passes = o->passes;
+        rp.npasses = (size_t)o->npasses;
+        rp.seed = o->seed;
+        r = vp_pack_rsa(ctx, c, &rp, p, &rr->rsa);
+        rr->pack_seconds = rr->rsa.seconds;
+    } else {
+        vp_relax_params xp;
+        vp_relax_params_init(&xp);
+        xp.fit = o->fit;
+        xp.radius = o->sizes;
+        xp.count = (size_t)o->count;
+        xp.target_fraction = o->target_fraction;
+        if (o->tolerance > 0) xp.tolerance = o->tolerance;
+        xp.seed = o->seed;
+        r = vp_pack_relax(ctx, c, &xp, p, &rr->relax);
+        rr->pack_seconds = rr->relax.seconds;
+    }
+    if (r == VP_OK && *p && !rr->max_radius) {
+        const vp_particles *q = *p;
+        double m = q->uniform_radius;
+        if (q->radii)
+            for (size_t i = 0; i < q->count; i++)
+                if (q->radii[i] > m) m = q->radii[i];
+        rr->max_radius = m;
+    }
+    return r;
+}
+
+/* The --pass options as text, for metadata ("count=N,radius=R;..."). */
+static void passes_text(const pack_opts *o, char *out, size_t outlen) {
+    size_t at = 0;
+    out[0] = 0;
+    for (int i = 0; i < o->npasses && at + 1 < outlen; i++) {
+        const vp_rsa_pass *ps = &o->passes[i];
+        char sz[256], cnt[32];
+        vp_size_dist_format(&ps->radius, sz, sizeof sz);
+        if (ps->maximal) snprintf(cnt, sizeof cnt, "max");
+        else snprintf(cnt, sizeof cnt, "%zu", ps->count);
+        int n = snprintf(out + at, outlen - at, "%scount=%s,radius=%s,retries=%d%s", i ? ";" : "",
+                         cnt, sz, ps->retries ? ps->retries : VP_RSA_DEFAULT_RETRIES,
+                         ps->grow ? ",grow" : "");
+        if (n < 0) break;
+        at += (size_t)n;
+        if (at >= outlen) break;
+    }
+}
+
+static void print_json(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
+                       const run_result *rr, double fraction, int threads, double seconds) {
+    printf("{\"command\":\"pack\",\"container\":");
+    vp_cli_json_string(stdout, o->container);
+    printf(",\"container_kind\":\"%s\",\"container_volume\":%.17g", kind_name(ci->kind),
+           ci->volume);
+    printf(",\"voxel_size\":%.17g,\"voxel_reason\":", ci->voxel_size);
+    vp_cli_json_string(stdout, ci->voxel_reason);
+    printf(",\"grid\":");
+    vp_cli_json_string(stdout, ci->grid_name);
+    printf(",\"mesh_triangles\":%zu,\"boundary_edges\":%zu,\"nonmanifold_edges\":%zu",
+           ci->mesh_triangles, ci->boundary_edges, ci->nonmanifold_edges);
+    printf(",\"method\":\"%s\",\"shape\":\"%s\",\"fit\":\"%s\"", o->method,
+           vp_shape_name(o->shape), o->fit == VP_FIT_INSIDE ? "inside" : "center");
+    printf(",\"count\":%zu,\"requested_count\":%llu,\"packing_fraction\":%.17g", p->count,
+           (unsigned long long)o->count, fraction);
+    printf(",\"max_radius\":%.17g", rr->max_radius);
+    if (!strcmp(o->method, "lattice")) {
+        const vp_lattice_report *l = &rr->lat;
+        printf(",\"lattice\":\"%s\",\"radius\":%.17g,\"lattice_fraction\":%.17g", lattice_label(o),
+               l->radius, l->lattice_fraction);
+        printf(",\"offsets_tried\":%d,\"rotations_tried\":%d,\"radius_iterations\":%d",
+               l->offsets_tried, l->rotations_tried, l->radius_iterations);
+        printf(",\"offset\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g]",
+               l->offset[0], l->offset[1], l->offset[2], l->rotation[0], l->rotation[1],
+               l->rotation[2], l->rotation[3]);
+    } else if (!strcmp(o->method, "rsa")) {
+        printf(",\"passes\":[");
+        for (size_t i = 0; i < rr->rsa.npasses; i++) {
+            const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
+            char sz[256];
+            vp_size_dist_format(&o->passes[i].radius, sz, sizeof sz);
+            printf("%s{\"group\":\"%s\",\"radius\":\"%s\",\"requested\":%zu,\"maximal\":%s,"
+                   "\"placed\":%zu,\"stop\":\"%s\",\"tries\":%llu,\"grow\":%s,\"grow_mean\":%.17g,"
+                   "\"seconds\":%.6f}",
+                   i ? "," : "", p->group_names[i], sz, pr->requested,
+                   o->passes[i].maximal ? "true" : "false", pr->placed, stop_name(pr->stop),
+                   (unsigned long long)pr->tries, o->passes[i].grow ? "true" : "false",
+                   pr->grow_mean, pr->seconds);
+        }
+        printf("]");
+    } else {
+        const vp_relax_report *x = &rr->relax;
+        printf(",\"sweeps\":%d,\"radius_scale\":%.17g,\"initial_fraction\":%.17g,"
+               "\"max_overlap\":%.17g", x->sweeps, x->radius_scale, x->initial_fraction,
+               x->max_overlap);
+    }
+    printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
+           (unsigned long long)o->seed, threads, rr->pack_seconds, seconds);
+    vp_cli_json_string(stdout, o->output);
+    printf("}\n");
+}
+
+static void print_summary(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
+                          const run_result *rr, double fraction, double seconds) {
+    if (!strcmp(o->method, "lattice"))
+        printf("vdbpack: packed %zu %s%s (radius %.6g) on %s in %s\n", p->count,
+               vp_shape_name(o->shape), p->count == 1 ? "" : "s", rr->lat.radius, lattice_label(o),
+               o->container);
+    else
+        printf("vdbpack: packed %zu sphere%s by %s in %s\n", p->count, p->count == 1 ? "" : "s",
+               !strcmp(o->method, "rsa") ? "random sequential addition" : "relaxation",
+               o->container);
+    if (ci->kind == VP_CONTAINER_MESH)
+        printf("  container: mesh, %zu triangles (%zu vertices after welding %zu), "
+               "level-set volume %.6g (mesh volume %.6g)\n",
+               ci->mesh_triangles, ci->mesh_vertices, ci->mesh_vertices_raw, ci->volume,
+               ci->mesh_volume);
+    else if (ci->kind == VP_CONTAINER_LEVEL_SET)
+        printf("  container: level set '%s', %zu active voxels, volume %.6g\n", ci->grid_name,
+               ci->active_voxels, ci->volume);
+    else
+        printf("  container: analytic, volume %.6g\n", ci->volume);
+    if (ci->voxel_size > 0) printf("  voxel size %.6g: %s\n", ci->voxel_size, ci->voxel_reason);
+    if (!strcmp(o->method, "lattice")) {
+        const vp_lattice_report *l = &rr->lat;
+        printf("  placement: %d offsets tried over %d orientation%s", l->offsets_tried,
+               l->rotations_tried, l->rotations_tried == 1 ? "" : "s");
+        if (o->count)
+            printf(", %d radii tried for --count %llu", l->radius_iterations,
+                   (unsigned long long)o->count);
+        printf("\n  packing fraction %.4f (the infinite lattice: %.4f)\n", fraction,
+               l->lattice_fraction);
+    } else if (!strcmp(o->method, "rsa")) {
+        for (size_t i = 0; i < rr->rsa.npasses; i++) {
+            const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
+            char sz[256];
+            vp_size_dist_format(&o->passes[i].radius, sz, sizeof sz);
+            printf("  %s: radius %s, placed %zu", p->group_names[i], sz, pr->placed);
+            if (o->passes[i].maximal)
+                printf(" (maximal: no room left)");
+            else if (pr->stop == VP_RSA_STOP_RETRIES)
+                printf(" of %zu (stopped: %d failed tries in a row)", pr->requested,
+                       o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
+            else
+                printf(" of %zu", pr->requested);
+            if (o->passes[i].grow) printf(", grown by %.3fx on average", pr->grow_mean);
+            printf(", %.2f s\n", pr->seconds);
+        }
+        printf("  packing fraction %.4f\n", fraction);
+    } else {
+        const vp_relax_report *x = &rr->relax;
+        printf("  relaxation: %d sweeps, radii scaled by %.4f, largest overlap %.3g of r_i + r_j\n",
+               x->sweeps, x->radius_scale, x->max_overlap);
+        printf("  packing fraction %.4f (%.4f before relaxation)\n", fraction,
+               x->initial_fraction);
+    }
+    printf("  wrote %s in %.2f s (packing %.2f s)\n", o->output, seconds, rr->pack_seconds);
+}
+
 int vp_cli_pack(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
@@ -260,18 +575,6 @@ int vp_cli_pack(int argc, char **argv) {
     const char *created[2] = {NULL, NULL};
     int ncreated = 0;
 
-    vp_lattice_params lp;
-    vp_lattice_params_init(&lp);
-    lp.shape = o.shape;
-    lp.lattice = o.lattice;
-    lp.fit = o.fit;
-    lp.radius = o.radius;
-    lp.count = (size_t)o.count;
-    lp.offsets = (int)o.offsets;
-    lp.rotate = o.rotate;
-    lp.rotations = (int)o.rotations;
-    lp.seed = o.seed;
-
     int an = analytic_container(ctx, o.container, &c);
     if (an < 0) {
         status = vp_cli_die(2, "pack: malformed analytic container '%s' (sphere:R or box:X,Y,Z "
@@ -284,10 +587,11 @@ int vp_cli_pack(int argc, char **argv) {
         cp.voxel_size = o.voxel_size;
         cp.allow_open = o.allow_open;
         cp.grid_name = o.grid;
-        cp.particle_radius = o.radius;
+        cp.particle_radius = largest_radius(&o);
         cp.particle_count = (size_t)o.count;
-        /* space one particle takes: shape volume / lattice fraction */
-        {
+        /* space one particle takes (at bounding radius 1): shape volume /
+         * packing fraction, for estimating the radius from a count */
+        if (!strcmp(o.method, "lattice")) {
             static const double frac[VP_SHAPE_COUNT] = {0.74048, 18.0 / 49.0, 1.0, 18.0 / 19.0,
                                                         0.904508, 0.836357};
             double f = frac[o.shape];
@@ -296,6 +600,12 @@ int vp_cli_pack(int argc, char **argv) {
                 else if (o.lattice == VP_LATTICE_BCC) f = 0.6802;
             }
             cp.space_per_particle = vp_shape_unit_volume(o.shape) / f;
+        } else if (!strcmp(o.method, "relax") && o.target_fraction > 0) {
+            /* radii scaled so that count spheres fill target_fraction:
+             * the largest is r_max, the mean cube E[r^3] */
+            double rmax = vp_size_dist_max(&o.sizes), m3 = vp_size_dist_mean_cube(&o.sizes);
+            cp.space_per_particle = 4.0 / 3.0 * M_PI * (m3 / (rmax * rmax * rmax)) /
+                                    o.target_fraction;
         }
         if (vp_container_load(ctx, o.container, &cp, &c) != VP_OK) {
             status = vp_cli_die(1, "%s", vp_context_message(ctx));
@@ -307,14 +617,14 @@ int vp_cli_pack(int argc, char **argv) {
         goto done;
     }
 
-    vp_lattice_report rep;
-    if (vp_pack_lattice(ctx, c, &lp, &p, &rep) != VP_OK) {
+    run_result rr;
+    if (run_method(ctx, c, &o, &p, &rr) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
     }
     vp_container_info ci;
     vp_container_get_info(c, &ci);
-    double fraction = ci.volume > 0 ? rep.particle_volume / ci.volume : 0.0;
+    double fraction = ci.volume > 0 ? vp_particles_volume(p) / ci.volume : 0.0;
 
     if (o.save_container) {
         if (vp_container_save(ctx, c, o.save_container) != VP_OK) {
@@ -331,34 +641,43 @@ int vp_cli_pack(int argc, char **argv) {
         created[ncreated++] = o.shape_out;
     }
 
-    char cmdline[4096];
+    char cmdline[4096], method_params[4096] = "";
     join_args(argc, argv, cmdline, sizeof cmdline);
     const char *cname = strrchr(o.container, '/');
     cname = cname ? cname + 1 : o.container;
-    vp_meta meta[] = {
+    vp_meta meta[20] = {
         {"creator", VP_META_STRING, "vdbpack " VP_VERSION_STRING, 0, 0},
         {"command_line", VP_META_STRING, cmdline, 0, 0},
         {"seed", VP_META_INT, NULL, (int64_t)o.seed, 0},
         {"method", VP_META_STRING, o.method, 0, 0},
         {"shape", VP_META_STRING, vp_shape_name(o.shape), 0, 0},
-        {"lattice", VP_META_STRING, vp_lattice_name(o.lattice == VP_LATTICE_DEFAULT
-                                                        ? (o.shape == VP_SHAPE_SPHERE
-                                                               ? VP_LATTICE_FCC
-                                                               : VP_LATTICE_DENSEST)
-                                                        : o.lattice), 0, 0},
         {"fit", VP_META_STRING, o.fit == VP_FIT_INSIDE ? "inside" : "center", 0, 0},
         {"container", VP_META_STRING, cname, 0, 0},
         {"particle_count", VP_META_INT, NULL, (int64_t)p->count, 0},
-        {"radius", VP_META_DOUBLE, NULL, 0, rep.radius},
+        {"max_radius", VP_META_DOUBLE, NULL, 0, rr.max_radius},
         {"container_volume", VP_META_DOUBLE, NULL, 0, ci.volume},
         {"packing_fraction", VP_META_DOUBLE, NULL, 0, fraction},
         {"voxel_size", VP_META_DOUBLE, NULL, 0, ci.voxel_size},
     };
+    size_t nmeta = 12;
+    if (!strcmp(o.method, "lattice")) {
+        meta[nmeta++] = (vp_meta){"lattice", VP_META_STRING, lattice_label(&o), 0, 0};
+        meta[nmeta++] = (vp_meta){"radius", VP_META_DOUBLE, NULL, 0, rr.lat.radius};
+    } else if (!strcmp(o.method, "rsa")) {
+        passes_text(&o, method_params, sizeof method_params);
+        meta[nmeta++] = (vp_meta){"passes", VP_META_STRING, method_params, 0, 0};
+    } else {
+        vp_size_dist_format(&o.sizes, method_params, sizeof method_params);
+        meta[nmeta++] = (vp_meta){"radius", VP_META_STRING, method_params, 0, 0};
+        meta[nmeta++] = (vp_meta){"target_fraction", VP_META_DOUBLE, NULL, 0, o.target_fraction};
+        meta[nmeta++] = (vp_meta){"radius_scale", VP_META_DOUBLE, NULL, 0, rr.relax.radius_scale};
+        meta[nmeta++] = (vp_meta){"max_overlap", VP_META_DOUBLE, NULL, 0, rr.relax.max_overlap};
+    }
     vp_write_params wp;
     vp_write_params_init(&wp);
     wp.full_precision = o.full_precision;
     wp.meta = meta;
-    wp.meta_count = sizeof meta / sizeof meta[0];
+    wp.meta_count = nmeta;
     if (vp_write_points(ctx, o.output, p, &wp) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
@@ -367,59 +686,10 @@ int vp_cli_pack(int argc, char **argv) {
     double seconds = now() - t0;
     if (prog.shown) fprintf(stderr, "\r%*s\r", 64, "");
 
-    const char *lname = vp_lattice_name(o.lattice == VP_LATTICE_DEFAULT
-                                            ? (o.shape == VP_SHAPE_SPHERE ? VP_LATTICE_FCC
-                                                                          : VP_LATTICE_DENSEST)
-                                            : o.lattice);
-    if (o.json) {
-        printf("{\"command\":\"pack\",\"container\":");
-        vp_cli_json_string(stdout, o.container);
-        printf(",\"container_kind\":\"%s\",\"container_volume\":%.17g", kind_name(ci.kind),
-               ci.volume);
-        printf(",\"voxel_size\":%.17g,\"voxel_reason\":", ci.voxel_size);
-        vp_cli_json_string(stdout, ci.voxel_reason);
-        printf(",\"grid\":");
-        vp_cli_json_string(stdout, ci.grid_name);
-        printf(",\"mesh_triangles\":%zu,\"boundary_edges\":%zu,\"nonmanifold_edges\":%zu",
-               ci.mesh_triangles, ci.boundary_edges, ci.nonmanifold_edges);
-        printf(",\"method\":\"%s\",\"shape\":\"%s\",\"lattice\":\"%s\",\"fit\":\"%s\"", o.method,
-               vp_shape_name(o.shape), lname, o.fit == VP_FIT_INSIDE ? "inside" : "center");
-        printf(",\"radius\":%.17g,\"count\":%zu,\"requested_count\":%llu", rep.radius, p->count,
-               (unsigned long long)o.count);
-        printf(",\"packing_fraction\":%.17g,\"lattice_fraction\":%.17g", fraction,
-               rep.lattice_fraction);
-        printf(",\"offsets_tried\":%d,\"rotations_tried\":%d,\"radius_iterations\":%d",
-               rep.offsets_tried, rep.rotations_tried, rep.radius_iterations);
-        printf(",\"offset\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g]",
-               rep.offset[0], rep.offset[1], rep.offset[2], rep.rotation[0], rep.rotation[1],
-               rep.rotation[2], rep.rotation[3]);
-        printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
-               (unsigned long long)o.seed, vp_context_threads(ctx), rep.seconds, seconds);
-        vp_cli_json_string(stdout, o.output);
-        printf("}\n");
-    } else if (!o.quiet) {
-        printf("vdbpack: packed %zu %s%s (radius %.6g) on %s in %s\n", p->count,
-               vp_shape_name(o.shape), p->count == 1 ? "" : "s", rep.radius, lname, o.container);
-        if (ci.kind == VP_CONTAINER_MESH)
-            printf("  container: mesh, %zu triangles (%zu vertices after welding %zu), "
-                   "level-set volume %.6g (mesh volume %.6g)\n",
-                   ci.mesh_triangles, ci.mesh_vertices, ci.mesh_vertices_raw, ci.volume,
-                   ci.mesh_volume);
-        else if (ci.kind == VP_CONTAINER_LEVEL_SET)
-            printf("  container: level set '%s', %zu active voxels, volume %.6g\n", ci.grid_name,
-                   ci.active_voxels, ci.volume);
-        else
-            printf("  container: analytic, volume %.6g\n", ci.volume);
-        if (ci.voxel_size > 0)
-            printf("  voxel size %.6g: %s\n", ci.voxel_size, ci.voxel_reason);
-        printf("  placement: %d offsets tried over %d orientation%s", rep.offsets_tried,
-               rep.rotations_tried, rep.rotations_tried == 1 ? "" : "s");
-        if (o.count) printf(", %d radii tried for --count %llu", rep.radius_iterations,
-                            (unsigned long long)o.count);
-        printf("\n  packing fraction %.4f (the infinite lattice: %.4f)\n", fraction,
-               rep.lattice_fraction);
-        printf("  wrote %s in %.2f s (packing %.2f s)\n", o.output, seconds, rep.seconds);
-    }
+    if (o.json)
+        print_json(&o, &ci, p, &rr, fraction, vp_context_threads(ctx), seconds);
+    else if (!o.quiet)
+        print_summary(&o, &ci, p, &rr, fraction, seconds);
     status = 0;
 
 done:

@@ -7,6 +7,7 @@
 #include <openvdb/points/PointDataGrid.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -189,6 +190,22 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
             }
         }
         P.count = P.capacity = std::min(k, count);
+
+        // How exactly P was stored: each component of the voxel-local
+        // offset in [-0.5, 0.5] is rounded to the codec's step.
+        {
+            const std::string codec = leaf0->constAttributeArray(iP).codecType();
+            double step = 0.0; // in voxels
+            if (codec.find("fxpt16") != std::string::npos) step = 1.0 / 65535.0;
+            else if (codec.find("fxpt8") != std::string::npos) step = 1.0 / 255.0;
+            else if (codec == "trnc") step = std::ldexp(1.0, -11); // half floats
+            else step = std::ldexp(1.0, -24);                      // float
+            const openvdb::Vec3d vs = xf.voxelSize();
+            const double voxel = std::max(vs[0], std::max(vs[1], vs[2]));
+            // up to one whole step per component: the codec truncates, and
+            // the offset is rounded to float before it is encoded
+            P.position_error = std::sqrt(3.0) * step * voxel;
+        }
 
         // Collapse uniform per-point data to the uniform fields.
         if (P.radii) {

@@ -1,0 +1,81 @@
+/* Parsing of the random packers' options: sizes (a radius or a
+ * distribution) and `--pass count=N|max,radius=R|DIST[,retries=K][,grow]
+ * [,name=NAME]`. Errors print one line and return the exit status 2. */
+#include "vdbpack/vdbpack.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/cli.h"
+
+int vp_cli_parse_sizes(const char *opt, const char *text, vp_size_dist *out) {
+    vp_context *ctx = NULL;
+    if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
+    int rc = 0;
+    if (vp_size_dist_parse(ctx, text, out) != VP_OK)
+        rc = vp_cli_die(2, "pack: %s: %s", opt, vp_context_message(ctx));
+    vp_context_destroy(ctx);
+    return rc;
+}
+
+static int valid_group_name(const char *s) {
+    if (!*s || strlen(s) >= VP_GROUP_NAME_MAX) return 0;
+    for (; *s; s++)
+        if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
+              *s == '_'))
+            return 0;
+    return 1;
+}
+
+int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
+    vp_rsa_pass_init(out);
+    char buf[1024];
+    if (strlen(text) >= sizeof buf) return vp_cli_die(2, "pack: --pass '%.40s...' is too long", text);
+    strcpy(buf, text);
+    int have_count = 0, have_radius = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(tok, '=');
+        const char *val = eq ? eq + 1 : NULL;
+        if (eq) *eq = 0;
+        if (!strcmp(tok, "count")) {
+            uint64_t n;
+            if (val && !strcmp(val, "max")) {
+                out->maximal = 1;
+            } else if (!val || vp_cli_parse_u64(val, &n) != 0 || n == 0) {
+                return vp_cli_die(2, "pack: --pass '%s': count must be a whole number > 0 or "
+                                     "'max', not '%s'", text, val ? val : "");
+            } else {
+                out->count = (size_t)n;
+            }
+            have_count = 1;
+        } else if (!strcmp(tok, "radius")) {
+            if (!val) return vp_cli_die(2, "pack: --pass '%s': radius needs a value", text);
+            char opt[64];
+            snprintf(opt, sizeof opt, "--pass radius");
+            int rc = vp_cli_parse_sizes(opt, val, &out->radius);
+            if (rc) return rc;
+            have_radius = 1;
+        } else if (!strcmp(tok, "retries")) {
+            uint64_t k;
+            if (!val || vp_cli_parse_u64(val, &k) != 0 || k == 0 || k > 1000000000)
+                return vp_cli_die(2, "pack: --pass '%s': retries must be a whole number in "
+                                     "1..1e9, not '%s'", text, val ? val : "");
+            out->retries = (int)k;
+        } else if (!strcmp(tok, "grow")) {
+            if (val) return vp_cli_die(2, "pack: --pass '%s': grow takes no value", text);
+            out->grow = 1;
+        } else if (!strcmp(tok, "name")) {
+            if (!val || !valid_group_name(val))
+                return vp_cli_die(2, "pack: --pass '%s': name must be 1-31 letters, digits or _",
+                                  text);
+            snprintf(out->name, sizeof out->name, "%s", val);
+        } else {
+            return vp_cli_die(2, "pack: --pass '%s': unknown field '%s' (count, radius, retries, "
+                                 "grow, name)", text, tok);
+        }
+    }
+    if (!have_count || !have_radius)
+        return vp_cli_die(2, "pack: --pass '%s' needs count=N (or count=max) and radius=R", text);
+    return 0;
+}

@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# The random packers through the CLI (--method rsa, --method relax), read back
+# with OpenVDB's own tools only (vdb_ax rewrites P, vdb_tool extracts it,
+# numpy checks: tests/py/random_check.py), then with `vdbpack check`; and
+# issue 3's bad input: one line on stderr, non-zero exit, no output file.
+set -euo pipefail
+: "${VDBPACK:?}" "${VP_SRC:?}"
+for t in vdb_ax vdb_tool; do command -v $t >/dev/null || { echo "SKIP: $t not installed"; exit 77; }; done
+PY=""
+for p in /usr/bin/python3 python3; do
+  if command -v "$p" >/dev/null && "$p" -c 'import numpy' 2>/dev/null; then PY=$p; break; fi
+done
+[ -n "$PY" ] || { echo "SKIP: no python3 with numpy"; exit 77; }
+W=$(mktemp -d); trap 'rm -rf "$W"' EXIT; cd "$W"
+die() { echo "FAIL: $*"; exit 1; }
+AX=(env OPENVDB_DISABLE_DELAYED_LOAD=1 vdb_ax)
+jget() { "$PY" -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
+
+extract() { # VDB N NGROUPS -> x.ply y.ply z.ply a.ply in ./ex
+  local in=$1 n=$2 ng=$3 gcode="float gi = 0.0f;"
+  for k in $(seq 1 "$ng"); do gcode="$gcode if (ingroup(\"pass$k\")) gi = float($k);"; done
+  rm -rf ex; mkdir ex
+  for c in x y z; do
+    "${AX[@]}" -i "$in" -s "@P = {@P.$c, float(i@id), 0.0f};" -o ex/$c.vdb >ax.out 2>&1 || die "vdb_ax ($c): $(cat ax.out)"
+    vdb_tool -quiet -read ex/$c.vdb -vdb2points -write ex/$c.ply >/dev/null 2>&1 || die "vdb_tool ($c)"
+  done
+  "${AX[@]}" -i "$in" -s "$gcode @P = {f@pscale, float(i@id), gi};" -o ex/a.vdb >ax.out 2>&1 || die "vdb_ax (a): $(cat ax.out)"
+  vdb_tool -quiet -read ex/a.vdb -vdb2points -write ex/a.ply >/dev/null 2>&1 || die "vdb_tool (a)"
+}
+
+case_ok() { # NAME CONTAINER FIT GROUPCOUNTS(or -) NGROUPS pack-args...
+  local name=$1 cont=$2 fit=$3 groups=$4 ng=$5; shift 5
+  echo "=== $name: pack $cont --fit $fit $*"
+  "$VDBPACK" pack "$cont" --fit "$fit" -o "$name.vdb" --json "$@" >"$name.json" 2>"$name.err" ||
+    die "pack failed: $(cat "$name.err")"
+  local n; n=$(jget "$name.json" count)
+  [ "$n" -gt 0 ] || die "no particles"
+  echo "  $n particles, fraction $(jget "$name.json" packing_fraction)"
+  extract "$name.vdb" "$n" "$ng"
+  "$PY" "$VP_SRC/tests/py/random_check.py" ex "$n" "$cont" "$fit" "$groups" "$name.json" || exit 1
+  "$VDBPACK" check "$name.vdb" --container "$cont" --fit "$fit" --json >"$name.check" 2>&1 ||
+    die "vdbpack check found a violation or failed: $(cat "$name.check")"
+  [ "$(jget "$name.check" overlapping_pairs)" = 0 ] || die "check: overlapping pairs"
+  echo "  ok: vdbpack check: no violation, mean contacts $(jget "$name.check" mean_contacts)"
+}
+
+# binary RSA with grow: group sizes exact when every particle is placed
+case_ok binary box:1,1,1 inside 60,1500 2 --method rsa --seed 3 \
+  --pass count=60,radius=0.06,grow --pass count=1500,radius=0.015
+[ "$(jget binary.json packing_fraction)" != 0 ] || die "binary: zero fraction"
+"$PY" - binary.json <<'PY' || exit 1
+import json, sys
+d = json.load(open(sys.argv[1]))
+p = d["passes"]
+assert [q["placed"] for q in p] == [60, 1500], p
+assert p[0]["grow"] and p[0]["grow_mean"] > 1.0, "pass 1 grew by %s" % p[0]["grow_mean"]
+assert [q["stop"] for q in p] == ["count", "count"], p
+print("  ok: JSON passes: placed 60 and 1500, pass 1 grown x%.3f" % p[0]["grow_mean"])
+PY
+# a distribution, centre fit, sphere container
+case_ok lognormal sphere:1 center 800 1 --method rsa --seed 9 --radius lognormal:0.04:0.01 --count 800
+# ternary, one pass maximal
+case_ok ternary box:1,1,1 inside - 3 --method rsa --seed 4 --pass count=20,radius=0.1 \
+  --pass count=200,radius=0.04 --pass count=max,radius=0.03
+# relaxation with a target fraction
+case_ok relax sphere:1 inside 600 1 --method relax --seed 2 --radius 1 --count 600 --target-fraction 0.5
+"$PY" -c "
+import json; d = json.load(open('relax.json'))
+assert d['max_overlap'] <= 1e-6, d['max_overlap']
+assert 0 < d['radius_scale'] <= 1, d['radius_scale']
+print('  ok: relax: largest overlap %.2g <= 1e-6, radii scaled by %.4f' % (d['max_overlap'], d['radius_scale']))" || die relax-json
+# retry limit: far more than fit, stops by retries
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.2 --count 500 --retries 200 -o full.vdb --json >full.json 2>full.err ||
+  die "impossible count must still pack what fits: $(cat full.err)"
+"$PY" -c "
+import json; p = json.load(open('full.json'))['passes'][0]
+assert p['stop'] == 'retries' and 0 < p['placed'] < 500, p
+print('  ok: count 500 of radius 0.2 in a unit box: placed %d, stopped by retries' % p['placed'])" || die retries
+# same seed, same file; another seed, another file
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 7 --threads 1 -o d1.vdb -q
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 7 --threads 2 -o d2.vdb -q
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 8 -o d3.vdb -q
+cmp -s d1.vdb d2.vdb || die "rsa: 1 and 2 threads give different files"
+cmp -s d1.vdb d3.vdb && die "rsa: seeds 7 and 8 give the same file"
+echo "  ok: rsa output identical for 1 and 2 threads, different for another seed"
+
+# bad input: one line on stderr, exit status, no output file
+bad() { # EXPECTED_STATUS WORD args...
+  local want=$1 word=$2; shift 2
+  rm -f bad.vdb
+  set +e; "$VDBPACK" pack "$@" -o bad.vdb >bad.out 2>bad.err; local st=$?; set -e
+  [ "$st" = "$want" ] || die "'$*' exited $st, expected $want: $(cat bad.err)"
+  [ "$(wc -l <bad.err)" = 1 ] || die "'$*' printed $(wc -l <bad.err) lines on stderr: $(cat bad.err)"
+  grep -qi -- "$word" bad.err || die "'$*': message lacks '$word': $(cat bad.err)"
+  [ ! -e bad.vdb ] || die "'$*' left an output file"
+  echo "  ok: $(cat bad.err)"
+}
+echo "=== bad input"
+bad 2 "unknown field" box:1,1,1 --method rsa --pass count=10,radius=0.1,colour=red
+bad 2 "count" box:1,1,1 --method rsa --pass radius=0.1
+bad 2 "count" box:1,1,1 --method rsa --pass count=ten,radius=0.1
+bad 2 "unknown distribution" box:1,1,1 --method rsa --pass count=10,radius=gamma:1:2
+bad 2 "> 0" box:1,1,1 --method rsa --pass count=10,radius=-0.1
+bad 2 "> 0" box:1,1,1 --method rsa --pass count=10,radius=0
+bad 2 "A <= B" box:1,1,1 --method rsa --pass count=10,radius=uniform:0.2:0.1
+bad 2 "retries" box:1,1,1 --method rsa --pass count=10,radius=0.1,retries=0
+bad 2 "retries" box:1,1,1 --method rsa --radius 0.1 --count 10 --retries 0
+bad 2 "single radius" box:1,1,1 --method rsa --pass count=max,radius=uniform:0.1:0.2
+bad 2 "target-fraction" box:1,1,1 --method relax --radius 0.1 --count 10 --target-fraction 1
+bad 2 "target-fraction" box:1,1,1 --method relax --radius 0.1 --count 10 --target-fraction 1.5
+bad 2 "count" box:1,1,1 --method relax --radius 0.1
+bad 2 "spheres" box:1,1,1 --method rsa --shape cube --radius 0.1 --count 10
+bad 1 "radius" box:1,1,1 --method rsa --radius 2 --count 10
+bad 1 "" box:1,1,1 --method relax --radius 0.3 --count 500
+echo "PASS: sh_random"
