@@ -61,6 +61,11 @@ const char *vp_context_message(const vp_context *ctx);
 void vp_context_set_threads(vp_context *ctx, int threads);
 int vp_context_threads(const vp_context *ctx);
 void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user);
+/* Async-signal-safe: removes the temporary files of every write still in
+ * progress in this process (outputs are written to a temporary name and
+ * renamed). For a signal handler that is about to _exit(); the targets of
+ * finished writes are not touched. */
+void vp_remove_partial_outputs(void);
 /* Memory limit in bytes for estimates (0 = physical memory). */
 void vp_context_set_max_memory(vp_context *ctx, uint64_t bytes);
 uint64_t vp_context_max_memory(const vp_context *ctx);

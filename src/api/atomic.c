@@ -3,14 +3,48 @@
 #include "core/context.h"
 
 #include <errno.h>
+#include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+/* Temporary files of writes in progress, for vp_remove_partial_outputs()
+ * in a signal handler: fixed slots, claimed and released atomically, so the
+ * handler never sees a half-written name (a slot is published only once its
+ * name is complete). */
+#define VP_TEMP_SLOTS 16
+static char g_temp[VP_TEMP_SLOTS][4096];
+static atomic_int g_temp_used[VP_TEMP_SLOTS]; /* 0 free, 1 being filled, 2 live */
+
+static void temp_register(vp_atomic *a) {
+    a->slot = -1;
+    for (int i = 0; i < VP_TEMP_SLOTS; i++) {
+        int expect = 0;
+        if (atomic_compare_exchange_strong(&g_temp_used[i], &expect, 1)) {
+            memcpy(g_temp[i], a->tmp_path, sizeof g_temp[i]);
+            atomic_store(&g_temp_used[i], 2);
+            a->slot = i;
+            return;
+        }
+    }
+}
+
+static void temp_release(vp_atomic *a) {
+    if (a->slot >= 0) atomic_store(&g_temp_used[a->slot], 0);
+    a->slot = -1;
+}
+
+void vp_remove_partial_outputs(void) {
+    for (int i = 0; i < VP_TEMP_SLOTS; i++)
+        if (atomic_load(&g_temp_used[i]) == 2) unlink(g_temp[i]);
+}
+
 vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     memset(a, 0, sizeof *a);
+    a->slot = -1;
     if (!path || !*path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no output path given");
     size_t n = strlen(path);
     if (n >= sizeof a->final_path - 32)
@@ -40,6 +74,7 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
     }
     close(fd);
+    temp_register(a);
     return VP_OK;
 }
 
@@ -53,6 +88,7 @@ vp_result vp_atomic_commit(vp_context *ctx, vp_atomic *a) {
     mode_t um = umask(0);
     umask(um);
     chmod(a->tmp_path, 0666 & ~um);
+    temp_release(a);
     if (rename(a->tmp_path, a->final_path) != 0) {
         int e = errno;
         vp_atomic_abort(a);
@@ -63,6 +99,7 @@ vp_result vp_atomic_commit(vp_context *ctx, vp_atomic *a) {
 }
 
 void vp_atomic_abort(vp_atomic *a) {
+    if (a) temp_release(a);
     if (a && a->tmp_path[0]) {
         unlink(a->tmp_path);
         a->tmp_path[0] = 0;

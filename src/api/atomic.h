@@ -8,6 +8,7 @@
 typedef struct vp_atomic {
     char final_path[4096];
     char tmp_path[4096];
+    int slot; /* in the registry of vp_remove_partial_outputs(), or -1 */
 } vp_atomic;
 
 /* Checks that path can be written (not a directory, parent exists and is

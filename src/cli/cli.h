@@ -26,6 +26,16 @@ struct vp_size_dist;
 struct vp_rsa_pass;
 int vp_cli_parse_sizes(const char *opt, const char *text, struct vp_size_dist *out);
 int vp_cli_parse_pass(const char *text, struct vp_rsa_pass *out);
+/* SIGINT/SIGTERM handling (signals.c). install() once; interrupted() is
+ * the signal received (0 if none); track_output() names a finished output
+ * to remove if interrupted; done() once every output is final;
+ * interrupted_exit() removes the tracked outputs, prints one line and
+ * returns the exit status 128 + signal. */
+void vp_cli_signals_install(void);
+int vp_cli_interrupted(void);
+void vp_cli_signals_track_output(const char *path);
+void vp_cli_signals_done(void);
+int vp_cli_interrupted_exit(void);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

@@ -51,6 +51,7 @@ typedef struct pack_opts {
 typedef struct progress {
     double start;
     int shown;
+    int bar; /* draw a bar (stderr is a terminal); else only watch for signals */
 } progress;
 
 static double now(void) {
@@ -61,7 +62,8 @@ static double now(void) {
 
 static int on_progress(void *user, double fraction, const char *stage) {
     progress *p = user;
-    if (now() - p->start < 0.5) return 1;
+    if (vp_cli_interrupted()) return 0; /* SIGINT/SIGTERM: cancel */
+    if (!p->bar || now() - p->start < 0.5) return 1;
     int w = 30, filled = (int)(fraction * w + 0.5);
     if (filled > w) filled = w;
     if (filled < 0) filled = 0;
@@ -70,6 +72,13 @@ static int on_progress(void *user, double fraction, const char *stage) {
     fflush(stderr);
     p->shown = 1;
     return 1;
+}
+
+/* A library call failed: one line, or the interruption's line when a signal
+ * made it stop. */
+static int lib_error(vp_context *ctx) {
+    if (vp_cli_interrupted()) return vp_cli_interrupted_exit();
+    return vp_cli_die(1, "%s", vp_context_message(ctx));
 }
 
 /* --- option parsing -------------------------------------------------------- */
@@ -566,8 +575,9 @@ int vp_cli_pack(int argc, char **argv) {
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
     if (o.threads) vp_context_set_threads(ctx, (int)o.threads);
     if (o.max_memory) vp_context_set_max_memory(ctx, o.max_memory);
-    progress prog = {now(), 0};
-    if (!o.quiet && !o.json && isatty(2)) vp_context_set_progress(ctx, on_progress, &prog);
+    progress prog = {now(), 0, !o.quiet && !o.json && isatty(2)};
+    vp_context_set_progress(ctx, on_progress, &prog);
+    vp_cli_signals_install();
 
     int status = 1;
     vp_container *c = NULL;
@@ -608,7 +618,7 @@ int vp_cli_pack(int argc, char **argv) {
                                     o.target_fraction;
         }
         if (vp_container_load(ctx, o.container, &cp, &c) != VP_OK) {
-            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+            status = lib_error(ctx);
             goto done;
         }
     } else if (o.voxel_size > 0 || o.grid || o.save_container) {
@@ -619,7 +629,7 @@ int vp_cli_pack(int argc, char **argv) {
 
     run_result rr;
     if (run_method(ctx, c, &o, &p, &rr) != VP_OK) {
-        status = vp_cli_die(1, "%s", vp_context_message(ctx));
+        status = lib_error(ctx);
         goto done;
     }
     vp_container_info ci;
@@ -628,17 +638,19 @@ int vp_cli_pack(int argc, char **argv) {
 
     if (o.save_container) {
         if (vp_container_save(ctx, c, o.save_container) != VP_OK) {
-            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+            status = lib_error(ctx);
             goto done;
         }
         created[ncreated++] = o.save_container;
+        vp_cli_signals_track_output(o.save_container);
     }
     if (o.shape_out) {
         if (vp_shape_write_obj(ctx, o.shape, o.shape_out) != VP_OK) {
-            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+            status = lib_error(ctx);
             goto done;
         }
         created[ncreated++] = o.shape_out;
+        vp_cli_signals_track_output(o.shape_out);
     }
 
     char cmdline[4096], method_params[4096] = "";
@@ -679,9 +691,15 @@ int vp_cli_pack(int argc, char **argv) {
     wp.meta = meta;
     wp.meta_count = nmeta;
     if (vp_write_points(ctx, o.output, p, &wp) != VP_OK) {
-        status = vp_cli_die(1, "%s", vp_context_message(ctx));
+        status = lib_error(ctx);
         goto done;
     }
+    if (vp_cli_interrupted()) {
+        vp_cli_signals_track_output(o.output);
+        status = vp_cli_interrupted_exit();
+        goto done;
+    }
+    vp_cli_signals_done();
     ncreated = 0; /* success: keep every output */
     double seconds = now() - t0;
     if (prog.shown) fprintf(stderr, "\r%*s\r", 64, "");

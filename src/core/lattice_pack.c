@@ -456,7 +456,20 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
             if (cap < 8) cap = 8;
             if (cap < noff) noff = cap;
         }
-        eval_many(&s, &cl, (const double(*)[3])u, (size_t)noff, counts, cfg->threads);
+        /* in chunks, so that cancellation (a signal in the CLI) is prompt */
+        for (int c0 = 0; c0 < noff; c0 += 32) {
+            int cn = noff - c0 < 32 ? noff - c0 : 32;
+            eval_many(&s, &cl, (const double(*)[3])(u + c0), (size_t)cn, counts + c0,
+                      cfg->threads);
+            if (!vp_report_progress(cfg->ctx, 0.8 * (rot + (double)(c0 + cn) / noff) / nrot,
+                                    "placement search")) {
+                free(u);
+                free(counts);
+                free(best_cl.amb);
+                free(cl.amb);
+                return vp_fail(cfg->ctx, VP_ERR_CANCELLED, "cancelled");
+            }
+        }
         st->offsets_tried += noff;
         st->rotations_tried++;
         size_t bi = 0;
