@@ -36,6 +36,13 @@ int vp_cli_interrupted(void);
 void vp_cli_signals_track_output(const char *path);
 void vp_cli_signals_done(void);
 int vp_cli_interrupted_exit(void);
+/* sphere:R or box:X,Y,Z (centred at the origin): 1 and *out if spec is
+ * one, -1 if malformed, 0 if spec is not analytic (or names a file). */
+struct vp_context;
+struct vp_container;
+int vp_cli_analytic_container(struct vp_context *ctx, const char *spec, struct vp_container **out);
+/* `vdbpack check ...` (argv after "check"). */
+int vp_cli_check(int argc, char **argv);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

@@ -21,6 +21,7 @@ static const char *MAIN_HELP =
     "Usage:\n"
     "  vdbpack pack CONTAINER -o OUT.vdb [options]   pack particles (vdbpack pack --help)\n"
     "  vdbpack info FILE.vdb [--json]                describe a .vdb file\n"
+    "  vdbpack check FILE.vdb --container C          verify a packing (vdbpack check --help)\n"
     "  vdbpack --version                             print the version\n"
     "  vdbpack --help                                this text\n"
     "\n"
@@ -172,5 +173,6 @@ int main(int argc, char **argv) {
         return vp_cli_pack(argc, argv);
     }
     if (!strcmp(cmd, "info")) return cmd_info(argc - 2, argv + 2);
+    if (!strcmp(cmd, "check")) return vp_cli_check(argc - 2, argv + 2);
     return vp_cli_die(2, "unknown command '%s' (see vdbpack --help)", cmd);
 }

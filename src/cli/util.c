@@ -1,9 +1,13 @@
 /* Parsing and JSON helpers for the command-line tool. */
+#include "vdbpack/vdbpack.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli/cli.h"
 
@@ -68,3 +72,33 @@ void vp_cli_json_string(FILE *f, const char *s) {
     }
     fputc('"', f);
 }
+
+/* sphere:R or box:X,Y,Z (centred at the origin); 1 if it is one, -1 if
+ * malformed, 0 if not analytic. */
+int vp_cli_analytic_container(vp_context *ctx, const char *spec, vp_container **out) {
+    struct stat st;
+    if (stat(spec, &st) == 0) return 0; /* a file of that name wins */
+    double c[3] = {0, 0, 0};
+    if (!strncmp(spec, "sphere:", 7)) {
+        double r;
+        if (vp_cli_parse_double(spec + 7, &r) != 0 || !(r > 0)) return -1;
+        return vp_container_create_sphere(ctx, c, r, out) == VP_OK ? 1 : -1;
+    }
+    if (!strncmp(spec, "box:", 4)) {
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", spec + 4);
+        double e[3];
+        char *save = NULL, *tok = strtok_r(buf, ",", &save);
+        int n = 0;
+        while (tok && n < 3) {
+            if (vp_cli_parse_double(tok, &e[n]) != 0 || !(e[n] > 0)) return -1;
+            n++;
+            tok = strtok_r(NULL, ",", &save);
+        }
+        if (n != 3 || tok) return -1;
+        double lo[3] = {-e[0] / 2, -e[1] / 2, -e[2] / 2}, hi[3] = {e[0] / 2, e[1] / 2, e[2] / 2};
+        return vp_container_create_box(ctx, lo, hi, out) == VP_OK ? 1 : -1;
+    }
+    return 0;
+}
+

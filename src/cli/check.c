@@ -1,0 +1,206 @@
+/* `vdbpack check FILE.vdb --container C`: recomputes overlaps, particles
+ * outside the container, the packing fraction and the mean contact number
+ * from the file alone, and exits 3 on a violation. */
+#include "vdbpack/vdbpack.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+
+const char *VP_CHECK_HELP =
+    "Usage: vdbpack check FILE.vdb --container CONTAINER [options]\n"
+    "\n"
+    "Verifies the packing in FILE.vdb (its \"points\" grid) against CONTAINER (a\n"
+    "mesh, a .vdb level set, sphere:R or box:X,Y,Z) from the file alone: pairs of\n"
+    "overlapping particles and the largest overlap, particles outside the\n"
+    "container, the packing fraction and the mean contact number. Exit status: 0\n"
+    "when there is no violation, 3 when there is one, 1 on errors, 2 on usage.\n"
+    "\n"
+    "  --container C           the container (required)\n"
+    "  --fit inside|center     what counts as outside (default: the file's fit\n"
+    "                          metadata, else inside)\n"
+    "  --overlap-tolerance X   overlaps up to X of r_i + r_j are not violations\n"
+    "                          (default 1e-6; widened by the position error of\n"
+    "                          16-bit fixed-point P)\n"
+    "  --contact-tolerance X   gaps up to X of r_i + r_j count as contacts\n"
+    "                          (default 1e-3)\n"
+    "  --wall-tolerance D      world distance a particle may cross the wall by\n"
+    "                          (default: a tenth of the container's voxel)\n"
+    "  --voxel-size V          voxel size for a mesh container (default: the\n"
+    "                          file's voxel_size metadata, else automatic)\n"
+    "  --grid NAME             level-set grid of a .vdb container\n"
+    "  --allow-open            voxelize an open mesh anyway\n"
+    "  --json                  print the report as JSON on stdout\n"
+    "  -q, --quiet             print nothing but errors\n"
+    "  -h, --help              this text\n";
+
+/* Finds "key": in the "metadata" object of describe's JSON; returns a
+ * pointer to the value text or NULL. */
+static const char *meta_value(const char *json, const char *key) {
+    const char *m = strstr(json, "\"metadata\":{");
+    if (!m) return NULL;
+    const char *end = strstr(m, "},\"grids\"");
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *v = strstr(m, pat);
+    if (!v || (end && v > end)) return NULL;
+    return v + strlen(pat);
+}
+
+int vp_cli_check(int argc, char **argv) {
+    const char *file = NULL, *cont = NULL, *grid = NULL;
+    int json = 0, quiet = 0, allow_open = 0, fit_set = 0;
+    double voxel = 0;
+    vp_check_params cp;
+    vp_check_params_init(&cp);
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED()                                                                                 \
+    do {                                                                                       \
+        if (!v) return vp_cli_die(2, "check: %s needs a value", a);                            \
+        i++;                                                                                   \
+    } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(VP_CHECK_HELP, stdout);
+            return 0;
+        } else if (!strcmp(a, "--container")) {
+            NEED();
+            cont = v;
+        } else if (!strcmp(a, "--fit")) {
+            NEED();
+            if (!strcmp(v, "inside")) cp.fit = VP_FIT_INSIDE;
+            else if (!strcmp(v, "center") || !strcmp(v, "centre")) cp.fit = VP_FIT_CENTER;
+            else return vp_cli_die(2, "check: --fit must be inside or center, not '%s'", v);
+            fit_set = 1;
+        } else if (!strcmp(a, "--overlap-tolerance") || !strcmp(a, "--contact-tolerance") ||
+                   !strcmp(a, "--wall-tolerance") || !strcmp(a, "--voxel-size")) {
+            NEED();
+            double x;
+            if (vp_cli_parse_double(v, &x) != 0 || x < 0 ||
+                (!strcmp(a, "--voxel-size") && !(x > 0)))
+                return vp_cli_die(2, "check: %s must be a number >= 0%s, not '%s'", a,
+                                  strcmp(a, "--voxel-size") ? "" : " (and > 0)", v);
+            if (!strcmp(a, "--overlap-tolerance")) cp.overlap_tolerance = x;
+            else if (!strcmp(a, "--contact-tolerance")) cp.contact_tolerance = x;
+            else if (!strcmp(a, "--wall-tolerance")) cp.wall_tolerance = x;
+            else voxel = x;
+        } else if (!strcmp(a, "--grid")) {
+            NEED();
+            grid = v;
+        } else if (!strcmp(a, "--allow-open")) {
+            allow_open = 1;
+        } else if (!strcmp(a, "--json")) {
+            json = 1;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            quiet = 1;
+        } else if (a[0] == '-' && a[1]) {
+            return vp_cli_die(2, "check: unknown option '%s' (see vdbpack check --help)", a);
+        } else if (!file) {
+            file = a;
+        } else {
+            return vp_cli_die(2, "check: more than one file given ('%s')", a);
+        }
+#undef NEED
+    }
+    if (!file) return vp_cli_die(2, "check: no file given (see vdbpack check --help)");
+    if (!cont) return vp_cli_die(2, "check: no container given: use --container C");
+
+    vp_context *ctx = NULL;
+    if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
+    int status = 1;
+    vp_particles *p = NULL;
+    vp_container *c = NULL;
+    char *desc = NULL;
+    if (vp_read_points(ctx, file, &p) != VP_OK) {
+        status = vp_cli_die(1, "%s", vp_context_message(ctx));
+        goto done;
+    }
+    /* the packer's choices, from the file's metadata */
+    if (vp_describe_file(ctx, file, 1, &desc) == VP_OK) {
+        const char *f = meta_value(desc, "fit");
+        if (f && !fit_set) cp.fit = !strncmp(f, "\"center\"", 8) ? VP_FIT_CENTER : VP_FIT_INSIDE;
+        const char *vs = meta_value(desc, "voxel_size");
+        if (vs && !(voxel > 0)) {
+            double x = strtod(vs, NULL);
+            if (x > 0 && isfinite(x)) voxel = x;
+        }
+    }
+    double rmax = p->uniform_radius;
+    if (p->radii)
+        for (size_t i = 0; i < p->count; i++)
+            if (p->radii[i] > rmax) rmax = p->radii[i];
+    int an = vp_cli_analytic_container(ctx, cont, &c);
+    if (an < 0) {
+        status = vp_cli_die(2, "check: malformed analytic container '%s' (sphere:R or box:X,Y,Z "
+                               "with positive sizes)", cont);
+        goto done;
+    }
+    if (an == 0) {
+        vp_container_params kp;
+        vp_container_params_init(&kp);
+        kp.voxel_size = voxel;
+        kp.particle_radius = rmax > 0 ? rmax : 0;
+        kp.particle_count = p->count;
+        kp.allow_open = allow_open;
+        kp.grid_name = grid;
+        if (vp_container_load(ctx, cont, &kp, &c) != VP_OK) {
+            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+            goto done;
+        }
+    }
+    vp_check_report rep;
+    if (vp_check_particles(ctx, c, p, &cp, &rep) != VP_OK) {
+        status = vp_cli_die(1, "%s", vp_context_message(ctx));
+        goto done;
+    }
+    int bad = rep.overlapping_pairs > 0 || rep.outside > 0;
+    const char *fit = cp.fit == VP_FIT_INSIDE ? "inside" : "center";
+    if (json) {
+        printf("{\"file\":");
+        vp_cli_json_string(stdout, file);
+        printf(",\"container\":");
+        vp_cli_json_string(stdout, cont);
+        printf(",\"fit\":\"%s\",\"shape\":\"%s\",\"count\":%zu,\"overlapping_pairs\":%zu,"
+               "\"max_overlap\":%.17g,\"max_overlap_world\":%.17g,\"overlap_tolerance\":%.17g,"
+               "\"position_error\":%.17g,\"outside\":%zu,\"max_outside\":%.17g,"
+               "\"particle_volume\":%.17g,\"container_volume\":%.17g,\"packing_fraction\":%.17g,"
+               "\"contact_pairs\":%zu,\"mean_contacts\":%.17g,\"contact_tolerance\":%.17g,"
+               "\"ok\":%s,\"seconds\":%.6f}\n",
+               fit, vp_shape_name(p->shape), rep.count, rep.overlapping_pairs, rep.max_overlap,
+               rep.max_overlap_world, cp.overlap_tolerance, p->position_error, rep.outside,
+               rep.max_outside, rep.particle_volume, rep.container_volume, rep.fraction,
+               rep.contact_pairs, rep.mean_contacts, cp.contact_tolerance, bad ? "false" : "true",
+               rep.seconds);
+    } else if (!quiet) {
+        printf("vdbpack check %s: %zu %ss against %s (fit %s)\n", file, rep.count,
+               vp_shape_name(p->shape), cont, fit);
+        printf("  overlaps: %zu pairs beyond %.3g of %s (largest %.3g, %.3g world)\n",
+               rep.overlapping_pairs, cp.overlap_tolerance,
+               p->shape == VP_SHAPE_SPHERE ? "r_i + r_j" : "the smaller radius", rep.max_overlap,
+               rep.max_overlap_world);
+        if (p->position_error > 0)
+            printf("  positions stored to within %.3g (world), allowed for above\n",
+                   p->position_error);
+        printf("  outside the container: %zu (largest excursion %.3g)\n", rep.outside,
+               rep.max_outside);
+        printf("  packing fraction %.6f (particles %.6g / container %.6g)\n", rep.fraction,
+               rep.particle_volume, rep.container_volume);
+        printf("  mean contacts %.3f (%zu pairs within %.3g of r_i + r_j)\n", rep.mean_contacts,
+               rep.contact_pairs, cp.contact_tolerance);
+        printf("  %s\n", bad ? "VIOLATION" : "OK");
+    }
+    if (bad && (quiet || json))
+        fprintf(stderr, "vdbpack: check: %s: %zu overlapping pairs, %zu particles outside\n", file,
+                rep.overlapping_pairs, rep.outside);
+    status = bad ? 3 : 0;
+done:
+    free(desc);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+    vp_context_destroy(ctx);
+    return status;
+}

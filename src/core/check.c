@@ -1,0 +1,181 @@
+/* Independent verification of a packing; see check.h and docs/check.md.
+ * Works from the particle set alone (positions, radii, orientations, shape)
+ * and the container's distance: every pair of bounding spheres that may
+ * touch is found with a cell grid and tested exactly (sphere distance, or
+ * the separating-axis test for polyhedra). */
+#include "core/container.h"
+#include "core/context.h"
+#include "core/geom.h"
+#include "core/sgrid.h"
+#include "core/shape.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vp_check_params_init(vp_check_params *p) {
+    memset(p, 0, sizeof *p);
+    p->fit = VP_FIT_INSIDE;
+    p->overlap_tolerance = 1e-6;
+    p->contact_tolerance = 1e-3;
+    p->wall_tolerance = -1.0;
+}
+
+typedef struct chk {
+    const vp_particles *p;
+    const vp_polyhedron *poly;
+    const vp_check_params *prm;
+    double *r;          /* radii (double) */
+    double slack;       /* 2 x position error (world) */
+    size_t i;
+    vp_check_report *rep;
+} chk;
+
+static void orient_of(const vp_particles *p, size_t i, double q[4]) {
+    const float *f = p->orients ? p->orients + 4 * i : p->uniform_orient;
+    for (int k = 0; k < 4; k++) q[k] = f[k];
+    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (n > 0)
+        for (int k = 0; k < 4; k++) q[k] /= n;
+    else
+        q[0] = q[1] = q[2] = 0, q[3] = 1;
+}
+
+static int pair_visit(void *user, uint32_t j) {
+    chk *q = user;
+    if (j <= q->i) return 0; /* each pair once */
+    const double *xi = q->p->positions + 3 * q->i, *xj = q->p->positions + 3 * (size_t)j;
+    double ri = q->r[q->i], rj = q->r[j], e = ri + rj;
+    double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+    double d2 = dx * dx + dy * dy + dz * dz;
+    double reach = e * (1.0 + q->prm->contact_tolerance) + q->slack;
+    if (d2 >= reach * reach) return 0;
+    double gap, scale;
+    if (!q->poly) {
+        gap = sqrt(d2) - e;
+        scale = e;
+    } else {
+        double qa[4], qb[4];
+        orient_of(q->p, q->i, qa);
+        orient_of(q->p, j, qb);
+        gap = vp_poly_separation(q->poly, ri, qa, xi, q->poly, rj, qb, xj);
+        scale = ri < rj ? ri : rj;
+    }
+    vp_check_report *rep = q->rep;
+    if (gap <= q->prm->contact_tolerance * e) rep->contact_pairs++;
+    if (gap < 0) {
+        double rel = -gap / scale;
+        if (rel > rep->max_overlap) rep->max_overlap = rel;
+        if (-gap > rep->max_overlap_world) rep->max_overlap_world = -gap;
+        if (-gap > q->prm->overlap_tolerance * scale + q->slack) rep->overlapping_pairs++;
+    }
+    return 0;
+}
+
+vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_particles *p,
+                             const vp_check_params *params, vp_check_report *report) {
+    double t0 = vp_seconds();
+    if (!c || !p || !report)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: container, particles and report "
+                                                     "are required");
+    vp_check_params def;
+    if (!params) {
+        vp_check_params_init(&def);
+        params = &def;
+    }
+    if (!(params->overlap_tolerance >= 0) || !(params->contact_tolerance >= 0))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: tolerances must be >= 0");
+    vp_check_report rep;
+    memset(&rep, 0, sizeof rep);
+    rep.count = p->count;
+    rep.container_volume = c->info.volume;
+    const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
+    size_t n = p->count;
+    if (p->count >= UINT32_MAX - 1)
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: more than 2^32 particles");
+    double *r = malloc((n ? n : 1) * sizeof *r);
+    if (!r) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory");
+    double rmin = HUGE_VAL, rmax = 0, lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL},
+           hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (size_t i = 0; i < n; i++) {
+        r[i] = p->radii ? p->radii[i] : p->uniform_radius;
+        const double *x = p->positions + 3 * i;
+        if (!(r[i] > 0) || !isfinite(r[i]) || !isfinite(x[0]) || !isfinite(x[1]) ||
+            !isfinite(x[2])) {
+            free(r);
+            return vp_fail(ctx, VP_ERR_FORMAT,
+                           "check: particle %zu has a non-finite position or a radius <= 0", i);
+        }
+        if (r[i] < rmin) rmin = r[i];
+        if (r[i] > rmax) rmax = r[i];
+        for (int k = 0; k < 3; k++) {
+            if (x[k] < lo[k]) lo[k] = x[k];
+            if (x[k] > hi[k]) hi[k] = x[k];
+        }
+    }
+    double e = p->position_error > 0 ? p->position_error : 0.0;
+    double wall_tol = params->wall_tolerance;
+    if (wall_tol < 0) wall_tol = c->info.voxel_size > 0 ? 0.1 * c->info.voxel_size : 1e-9;
+    wall_tol += e;
+    /* pairs */
+    if (n > 1) {
+        vp_sgrid g;
+        if (vp_sgrid_init(&g, lo, hi, rmin, rmax, 2 * n + 4096) != 0) {
+            free(r);
+            return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory for the grid");
+        }
+        for (size_t i = 0; i < n; i++) {
+            if (vp_sgrid_insert(&g, (uint32_t)i, p->positions + 3 * i, r[i]) != 0) {
+                vp_sgrid_free(&g);
+                free(r);
+                return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory for the grid");
+            }
+        }
+        chk q = {p, poly, params, r, 2.0 * e, 0, &rep};
+        for (size_t i = 0; i < n; i++) {
+            q.i = i;
+            double reach = r[i] * (1.0 + params->contact_tolerance) + 2.0 * e +
+                           rmax * params->contact_tolerance;
+            vp_sgrid_query(&g, p->positions + 3 * i, reach, pair_visit, &q);
+            if ((i & 0xffff) == 0 && !vp_report_progress(ctx, 0.9 * (double)i / n, "check")) {
+                vp_sgrid_free(&g);
+                free(r);
+                return vp_fail(ctx, VP_ERR_CANCELLED, "check: cancelled");
+            }
+        }
+        vp_sgrid_free(&g);
+    }
+    /* the wall */
+    for (size_t i = 0; i < n; i++) {
+        const double *x = p->positions + 3 * i;
+        double v;
+        if (params->fit == VP_FIT_CENTER) {
+            v = vp_container_distance(c, x);
+        } else if (!poly) {
+            v = vp_container_distance(c, x) + r[i];
+        } else {
+            double q[4];
+            orient_of(p, i, q);
+            v = -HUGE_VAL;
+            for (int k = 0; k < poly->nverts; k++) {
+                double w[3], s[3] = {poly->verts[k][0] * r[i], poly->verts[k][1] * r[i],
+                                     poly->verts[k][2] * r[i]};
+                vp_quat_rotate(q, s, w);
+                for (int m = 0; m < 3; m++) w[m] += x[m];
+                double d = vp_container_distance(c, w);
+                if (d > v) v = d;
+            }
+        }
+        if (!(v <= wall_tol)) {
+            rep.outside++;
+            if (!(v <= rep.max_outside)) rep.max_outside = isfinite(v) ? v : HUGE_VAL;
+        }
+    }
+    free(r);
+    rep.particle_volume = vp_particles_volume(p);
+    rep.fraction = rep.container_volume > 0 ? rep.particle_volume / rep.container_volume : 0.0;
+    rep.mean_contacts = n ? 2.0 * (double)rep.contact_pairs / (double)n : 0.0;
+    rep.seconds = vp_seconds() - t0;
+    *report = rep;
+    return VP_OK;
+}

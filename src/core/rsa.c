@@ -1,0 +1,700 @@
+/* Random sequential addition (RSA) of spheres in passes; see rsa.h and
+ * docs/rsa.md.
+ *
+ * Sampling: candidates are uniform in the union of "active" cells, cubes
+ * that may still hold an admissible centre. A cell is dropped once it is
+ * known to hold none: wholly outside the admissible region of the container
+ * (the distance is 1-Lipschitz), or wholly inside the exclusion ball of one
+ * placed sphere. Rejection sampling from any superset of the admissible
+ * region gives the same uniform law as sampling the whole box, so this is
+ * plain RSA, only without the darts that are known to fail. When the
+ * success rate of a batch of darts falls below SPLIT_RATE, every active
+ * cell is split in eight and the covered children dropped (the maximal
+ * Poisson-disk sampling scheme of Ebeida et al. 2011/2012); when no cell is
+ * left the pass is maximal: no centre of that radius fits anywhere.
+ *
+ * Determinism: dart k of a pass draws its cell and position from its own
+ * random stream (seed, pass, k). Darts are made and pre-tested (container,
+ * particles placed before the batch) in parallel, then accepted in dart
+ * order on one thread, so the result does not depend on the thread count. */
+#include "core/container.h"
+#include "core/context.h"
+#include "core/parallel.h"
+#include "core/rng.h"
+#include "core/sgrid.h"
+#include "core/size_dist_sample.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
+#define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
+#define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
+
+void vp_rsa_pass_init(vp_rsa_pass *p) {
+    memset(p, 0, sizeof *p);
+    vp_size_dist_constant(&p->radius, 1.0);
+}
+
+void vp_rsa_params_init(vp_rsa_params *p) {
+    memset(p, 0, sizeof *p);
+    p->fit = VP_FIT_INSIDE;
+}
+
+typedef struct cell { uint32_t x, y, z; } cell;
+
+typedef struct dart {
+    double p[3];
+    double d;     /* container distance (or -HUGE_VAL: cell known valid) */
+    double clr;   /* min over earlier particles of |p - c_j| - r_j (capped) */
+    uint32_t cell;
+} dart;
+
+typedef struct rsa {
+    vp_context *ctx;
+    const vp_container *c;
+    vp_fit fit;
+    vp_particles *p;
+    vp_sgrid g;
+    double margin;        /* level-set slack for the cell container tests */
+    int threads;
+    /* the pass in progress */
+    double rmin, rmax;    /* radius range of the pass */
+    double a0;            /* level-0 cell side */
+    double origin[3];     /* cell lattice origin */
+    int level, max_level;
+    size_t cell_budget;   /* most active cells a split may make */
+    int split_blocked;    /* a split would exceed the budget: plain darts */
+    cell *cells;
+    size_t ncells, cap_cells;
+    uint64_t stream_seed;
+    /* batch */
+    dart *darts;
+    size_t ndarts;
+    size_t n0;            /* particles before the batch */
+    uint64_t dart_base;   /* global index of the batch's first dart */
+} rsa;
+
+static double thr_for(const rsa *s, double r) { return s->fit == VP_FIT_INSIDE ? -r : 0.0; }
+
+/* --- particle storage ------------------------------------------------------- */
+
+static int reserve(vp_particles *p, size_t want) {
+    if (want <= p->capacity) return 0;
+    size_t cap = p->capacity ? p->capacity : 1024;
+    while (cap < want) cap += cap / 2;
+    double *pos = realloc(p->positions, cap * 3 * sizeof *pos);
+    if (!pos) return -1;
+    p->positions = pos;
+    float *rad = realloc(p->radii, cap * sizeof *rad);
+    if (!rad) return -1;
+    p->radii = rad;
+    uint16_t *grp = realloc(p->groups, cap * sizeof *grp);
+    if (!grp) return -1;
+    p->groups = grp;
+    p->capacity = cap;
+    return 0;
+}
+
+/* --- neighbour tests ---------------------------------------------------------- */
+
+typedef struct clr_query {
+    const vp_particles *p;
+    const double *x;
+    double best;   /* min |x - c_j| - r_j so far */
+    double stop;   /* stop as soon as best < stop */
+    size_t from;   /* only j >= from */
+    size_t upto;   /* only j < upto */
+    size_t skip;   /* never this j */
+} clr_query;
+
+static int clr_visit(void *user, uint32_t j) {
+    clr_query *q = user;
+    if (j < q->from || j >= q->upto || j == q->skip) return 0;
+    const double *c = q->p->positions + 3 * (size_t)j;
+    double dx = q->x[0] - c[0], dy = q->x[1] - c[1], dz = q->x[2] - c[2];
+    double r = q->p->radii[j];
+    double lim = q->best + r; /* only a closer surface matters */
+    double d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 >= lim * lim) return 0;
+    q->best = sqrt(d2) - r;
+    return q->best < q->stop;
+}
+
+/* Min over particles j in [from, upto) of |x - c_j| - r_j, exact when below
+ * reach (else reach), stopping early once below stop. */
+static double clearance(const rsa *s, const double x[3], double reach, double stop, size_t from,
+                        size_t upto) {
+    clr_query q = {s->p, x, reach, stop, from, upto, SIZE_MAX};
+    vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
+    return q.best;
+}
+
+/* --- active cells ------------------------------------------------------------- */
+
+static double cell_side(const rsa *s, int level) { return ldexp(s->a0, -level); }
+
+static void cell_center(const rsa *s, const cell *c, int level, double out[3]) {
+    double a = cell_side(s, level);
+    out[0] = s->origin[0] + ((double)c->x + 0.5) * a;
+    out[1] = s->origin[1] + ((double)c->y + 0.5) * a;
+    out[2] = s->origin[2] + ((double)(c->z & ~VALID_BIT) + 0.5) * a;
+}
+
+/* Container test of a cell at `level`: 0 = no admissible centre in it,
+ * 1 = maybe, 2 = every point passes the container test. */
+static int classify(const rsa *s, const cell *c, int level) {
+    double a = cell_side(s, level), half = 0.5 * a, hd = half * sqrt(3.0);
+    double m[3];
+    cell_center(s, c, level, m);
+    double d = vp_container_distance(s->c, m);
+    if (!(d - hd <= thr_for(s, s->rmin) + s->margin)) return 0; /* also NaN */
+    return d + hd <= thr_for(s, s->rmax) - s->margin ? 2 : 1;
+}
+
+typedef struct cover_query {
+    const vp_particles *p;
+    const double *m;
+    double half;
+    double rmin;
+} cover_query;
+
+static int cover_visit(void *user, uint32_t j) {
+    cover_query *q = user;
+    const double *c = q->p->positions + 3 * (size_t)j;
+    double e = q->rmin + q->p->radii[j], f = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double t = fabs(q->m[k] - c[k]) + q->half;
+        f += t * t;
+    }
+    return f < e * e;
+}
+
+/* 1 if one placed sphere's exclusion ball (for the pass's smallest radius)
+ * holds the whole cell. */
+static int covered(const rsa *s, const cell *c, int level) {
+    if (!s->p->count) return 0;
+    double a = cell_side(s, level), m[3];
+    cell_center(s, c, level, m);
+    cover_query q = {s->p, m, 0.5 * a, s->rmin};
+    return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
+}
+
+static int keep_cell(const rsa *s, cell *c, int level) {
+    int k = classify(s, c, level);
+    if (!k || covered(s, c, level)) return 0;
+    if (k == 2) c->z |= VALID_BIT;
+    else c->z &= ~VALID_BIT;
+    return 1;
+}
+
+/* Split work: parent cells [lo, hi) of chunk i into their own buffer. */
+typedef struct split_job {
+    const rsa *s;
+    const cell *parents;
+    size_t nparents;
+    int child_level;     /* level of the output cells */
+    int from_box;        /* level-0 build: "parents" are rows of the box */
+    int64_t dims[3];
+    size_t chunk;
+    cell **out;
+    size_t *nout, *cap;
+    int failed;
+    int over;            /* a chunk alone exceeded the budget */
+} split_job;
+
+static int push_cell(cell **buf, size_t *n, size_t *cap, cell c) {
+    if (*n == *cap) {
+        size_t nc = *cap ? *cap * 2 : 256;
+        cell *b = realloc(*buf, nc * sizeof *b);
+        if (!b) return -1;
+        *buf = b;
+        *cap = nc;
+    }
+    (*buf)[(*n)++] = c;
+    return 0;
+}
+
+static void split_chunk(void *user, size_t i) {
+    split_job *j = user;
+    size_t lo = i * j->chunk, hi = lo + j->chunk;
+    if (j->from_box) {
+        size_t rows = (size_t)(j->dims[1] * j->dims[2]);
+        if (hi > rows) hi = rows;
+        for (size_t r = lo; r < hi; r++) {
+            cell c;
+            c.y = (uint32_t)(r % (size_t)j->dims[1]);
+            c.z = (uint32_t)(r / (size_t)j->dims[1]);
+            for (int64_t x = 0; x < j->dims[0]; x++) {
+                c.x = (uint32_t)x;
+                cell t = c;
+                if (keep_cell(j->s, &t, 0) && push_cell(&j->out[i], &j->nout[i], &j->cap[i], t))
+                    j->failed = 1;
+            }
+        }
+        return;
+    }
+    if (hi > j->nparents) hi = j->nparents;
+    for (size_t k = lo; k < hi; k++) {
+        if (j->nout[i] > j->s->cell_budget) {
+            j->over = 1;
+            return;
+        }
+        cell p = j->parents[k];
+        uint32_t pz = p.z & ~VALID_BIT;
+        for (int o = 0; o < 8; o++) {
+            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1)};
+            if (keep_cell(j->s, &c, j->child_level) &&
+                push_cell(&j->out[i], &j->nout[i], &j->cap[i], c))
+                j->failed = 1;
+        }
+    }
+}
+
+/* Replaces the active cells by the kept children of every active cell (or,
+ * with from_box, by the kept level-0 cells of the whole box). */
+static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
+    size_t units = from_box ? (size_t)(dims[1] * dims[2]) : s->ncells;
+    size_t nchunks = units < 64 ? (units ? units : 1) : 64;
+    split_job j;
+    memset(&j, 0, sizeof j);
+    j.s = s;
+    j.parents = s->cells;
+    j.nparents = s->ncells;
+    j.child_level = from_box ? 0 : s->level + 1;
+    j.from_box = from_box;
+    if (from_box) memcpy(j.dims, dims, sizeof j.dims);
+    j.chunk = (units + nchunks - 1) / nchunks;
+    if (!j.chunk) j.chunk = 1;
+    j.out = calloc(nchunks, sizeof *j.out);
+    j.nout = calloc(nchunks, sizeof *j.nout);
+    j.cap = calloc(nchunks, sizeof *j.cap);
+    vp_result r = VP_OK;
+    if (!j.out || !j.nout || !j.cap) {
+        r = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    vp_parallel_for(s->threads, nchunks, split_chunk, &j);
+    if (j.failed) {
+        r = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    size_t total = 0;
+    for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
+    if (!from_box && (j.over || total > s->cell_budget)) {
+        /* finer cells would take more memory than the budget allows: go on
+         * with darts at this level (plain RSA in these cells) */
+        s->split_blocked = 1;
+        goto done;
+    }
+    cell *cells = malloc((total ? total : 1) * sizeof *cells);
+    if (!cells) {
+        r = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    size_t at = 0;
+    for (size_t i = 0; i < nchunks; i++) {
+        if (j.nout[i]) memcpy(cells + at, j.out[i], j.nout[i] * sizeof *cells);
+        at += j.nout[i];
+    }
+    free(s->cells);
+    s->cells = cells;
+    s->ncells = total;
+    s->cap_cells = total;
+    s->level = j.child_level;
+done:
+    if (j.out)
+        for (size_t i = 0; i < nchunks; i++) free(j.out[i]);
+    free(j.out);
+    free(j.nout);
+    free(j.cap);
+    if (r != VP_OK) return vp_fail(s->ctx, r, "rsa: out of memory while refining the empty space");
+    return VP_OK;
+}
+
+/* --- darts ---------------------------------------------------------------------- */
+
+typedef struct dart_job {
+    rsa *s;
+    size_t chunk;
+} dart_job;
+
+static void make_darts(void *user, size_t ci) {
+    dart_job *j = user;
+    rsa *s = j->s;
+    size_t lo = ci * j->chunk, hi = lo + j->chunk;
+    if (hi > s->ndarts) hi = s->ndarts;
+    double a = cell_side(s, s->level);
+    for (size_t k = lo; k < hi; k++) {
+        dart *t = &s->darts[k];
+        uint64_t st = vp_rng_stream(s->stream_seed, s->dart_base + k);
+        uint32_t ci2 = (uint32_t)(vp_rng_next(&st) % s->ncells);
+        const cell *c = &s->cells[ci2];
+        t->cell = ci2;
+        t->p[0] = s->origin[0] + ((double)c->x + vp_rng_uniform(&st)) * a;
+        t->p[1] = s->origin[1] + ((double)c->y + vp_rng_uniform(&st)) * a;
+        t->p[2] = s->origin[2] + ((double)(c->z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
+        t->d = (c->z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
+        t->clr = HUGE_VAL;
+        if (t->d <= thr_for(s, s->rmin) && s->n0)
+            t->clr = clearance(s, t->p, s->rmax, s->rmin, 0, s->n0);
+    }
+}
+
+/* --- grow ------------------------------------------------------------------------- */
+
+/* Radius particle i can grow to: the distance to the nearest other
+ * sphere's surface and, with fit inside, to the wall. */
+static double grow_one(const rsa *s, size_t i, double diag) {
+    const double *x = s->p->positions + 3 * i;
+    double wall = HUGE_VAL;
+    if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x);
+    double reach = wall < HUGE_VAL ? wall : 4.0 * s->p->radii[i];
+    for (;;) {
+        clr_query q = {s->p, x, reach, -HUGE_VAL, 0, s->p->count, i};
+        vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
+        if (q.best < reach) return q.best; /* exact: every closer surface was seen */
+        if (reach >= wall || reach >= diag) return reach;
+        reach = 2.0 * reach < wall ? 2.0 * reach : wall;
+    }
+}
+
+/* Grows particles [first, last) in placement order. */
+static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
+    double diag = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = s->c->info.bmax[k] - s->c->info.bmin[k];
+        diag += e * e;
+    }
+    diag = sqrt(diag);
+    double sum = 0;
+    for (size_t i = first; i < last; i++) {
+        double r0 = s->p->radii[i];
+        double b = grow_one(s, i, diag);
+        /* a hair short of touching, so that the float radius and rounded
+         * positions can never make the contact an overlap */
+        double target = b * (1.0 - 4e-7);
+        float rf = (float)target;
+        while ((double)rf > target) rf = nextafterf(rf, 0.0f);
+        if ((double)rf > r0) {
+            s->p->radii[i] = rf;
+            vp_sgrid_grow(&s->g, (uint32_t)i, rf);
+        }
+        sum += (double)s->p->radii[i] / r0;
+    }
+    *mean_ratio = last > first ? sum / (double)(last - first) : 1.0;
+}
+
+/* --- one pass ------------------------------------------------------------------------ */
+
+static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, uint64_t seed,
+                          vp_rsa_pass_report *rep, double prog0, double prog1) {
+    double t0 = vp_seconds();
+    memset(rep, 0, sizeof *rep);
+    rep->requested = ps->maximal ? 0 : ps->count;
+    rep->grow_mean = 1.0;
+    /* radii are stored as float: bound the float values drawn */
+    float fmin = (float)vp_size_dist_min(&ps->radius), fmax = (float)vp_size_dist_max(&ps->radius);
+    if ((double)fmin > vp_size_dist_min(&ps->radius)) fmin = nextafterf(fmin, 0.0f);
+    if ((double)fmax < vp_size_dist_max(&ps->radius)) fmax = nextafterf(fmax, HUGE_VALF);
+    s->rmin = fmin;
+    s->rmax = fmax;
+    s->stream_seed = vp_rng_stream(seed, 2 * (uint64_t)pass_index);
+    uint64_t rad_state = vp_rng_stream(seed, 2 * (uint64_t)pass_index + 1);
+    const vp_container_info *ci = &s->c->info;
+    double shrink = s->fit == VP_FIT_INSIDE ? s->rmin : 0.0;
+    double lo[3], hi[3], vol = 1.0;
+    for (int k = 0; k < 3; k++) {
+        lo[k] = ci->bmin[k] + shrink;
+        hi[k] = ci->bmax[k] - shrink;
+        vol *= hi[k] > lo[k] ? hi[k] - lo[k] : 0.0;
+    }
+    if (!(hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2])) {
+        if (s->p->count == 0)
+            return vp_fail(s->ctx, VP_ERR_NO_FIT,
+                           "rsa: pass %u: radius %.6g is too large for the container (its inside "
+                           "is %.6g x %.6g x %.6g)", pass_index + 1, s->rmin,
+                           ci->bmax[0] - ci->bmin[0], ci->bmax[1] - ci->bmin[1],
+                           ci->bmax[2] - ci->bmin[2]);
+        rep->stop = VP_RSA_STOP_MAXIMAL;
+        rep->seconds = vp_seconds() - t0;
+        return VP_OK;
+    }
+    /* level-0 cells: fine enough that a placed sphere covers its cell after
+     * one split, coarse enough to keep the count near the particles' */
+    double expect = ps->maximal ? 0.4 * vol / (4.0 / 3.0 * M_PI * s->rmin * s->rmin * s->rmin)
+                                : (double)ps->count;
+    double a0 = 2.0 * s->rmin / sqrt(3.0); /* diagonal 2 rmin: a sphere covers its cell */
+    double max_cells = 2.0 * expect;
+    if (max_cells < 4096) max_cells = 4096;
+    if (max_cells > 1 << 26) max_cells = 1 << 26;
+    while (vol / (a0 * a0 * a0) > max_cells) a0 *= 2.0;
+    s->cell_budget = (size_t)(2.0 * max_cells);
+    if (ps->maximal) /* must refine to the end: only memory limits it */
+        s->cell_budget = (size_t)((double)vp_memory_limit(s->ctx) / (4.0 * sizeof(cell)));
+    s->split_blocked = 0;
+    s->a0 = a0;
+    int64_t dims[3];
+    int64_t maxdim = 1;
+    for (int k = 0; k < 3; k++) {
+        s->origin[k] = lo[k];
+        dims[k] = (int64_t)ceil((hi[k] - lo[k]) / a0);
+        if (dims[k] < 1) dims[k] = 1;
+        if (dims[k] > maxdim) maxdim = dims[k];
+    }
+    int bits = 0;
+    while (((int64_t)1 << bits) < maxdim) bits++;
+    s->max_level = 30 - bits < 40 ? 30 - bits : 40;
+    if (s->max_level > 36) s->max_level = 36;
+    s->level = 0;
+    vp_result r = split_cells(s, 1, dims);
+    if (r != VP_OK) return r;
+
+    size_t retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
+    if (ps->maximal) retries = SIZE_MAX; /* ends when no cell is left */
+    size_t want = ps->maximal ? SIZE_MAX : ps->count;
+    size_t first = s->p->count, consecutive = 0;
+    double cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
+    uint64_t dart_index = 0;
+    size_t level_darts = 0; /* darts thrown at this level */
+    rep->stop = VP_RSA_STOP_MAXIMAL;
+    uint8_t *hit = NULL;
+    size_t hit_cap = 0;
+    size_t *hits = NULL;
+    size_t nhits = 0;
+    int done = 0;
+    while (!done) {
+        if (s->ncells == 0) {
+            rep->stop = VP_RSA_STOP_MAXIMAL;
+            break;
+        }
+        size_t B = s->ncells / 4;
+        if (B < 256) B = 256;
+        if (B > 8192) B = 8192;
+        if (B > s->ndarts) {
+            dart *d = realloc(s->darts, B * sizeof *d);
+            if (!d) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
+            s->darts = d;
+        }
+        s->ndarts = B;
+        s->n0 = s->p->count;
+        s->dart_base = dart_index;
+        dart_index += B;
+        dart_job j = {s, (B + 63) / 64};
+        vp_parallel_for(s->threads, 64, make_darts, &j);
+        if (s->ncells > hit_cap) {
+            free(hit);
+            hit_cap = s->ncells;
+            hit = calloc(hit_cap, 1);
+            free(hits);
+            hits = malloc(hit_cap * sizeof *hits);
+            if (!hit || !hits) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
+        }
+        nhits = 0;
+        size_t ok = 0, used = 0;
+        double a = cell_side(s, s->level), diag = a * sqrt(3.0);
+        for (size_t k = 0; k < B; k++) {
+            const dart *t = &s->darts[k];
+            used++;
+            rep->tries++;
+            int good = t->d <= thr_for(s, cur_r) && t->clr >= cur_r;
+            if (good && s->p->count > s->n0) {
+                size_t nnew = s->p->count - s->n0;
+                if (nnew <= 24) {
+                    for (size_t i = s->n0; i < s->p->count && good; i++) {
+                        const double *c = s->p->positions + 3 * i;
+                        double dx = t->p[0] - c[0], dy = t->p[1] - c[1], dz = t->p[2] - c[2];
+                        double e = cur_r + s->p->radii[i];
+                        if (dx * dx + dy * dy + dz * dz < e * e) good = 0;
+                    }
+                } else {
+                    good = clearance(s, t->p, cur_r, cur_r, s->n0, s->p->count) >= cur_r;
+                }
+            }
+            if (!good) {
+                if (++consecutive >= retries) {
+                    rep->stop = VP_RSA_STOP_RETRIES;
+                    done = 1;
+                    break;
+                }
+                continue;
+            }
+            consecutive = 0;
+            if (s->p->count >= UINT32_MAX - 1) {
+                r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: more than 2^32 particles");
+                done = 1;
+                break;
+            }
+            if (reserve(s->p, s->p->count + 1) != 0) {
+                r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory at %zu particles",
+                            s->p->count);
+                done = 1;
+                break;
+            }
+            size_t i = s->p->count++;
+            memcpy(s->p->positions + 3 * i, t->p, sizeof t->p);
+            s->p->radii[i] = (float)cur_r;
+            s->p->groups[i] = (uint16_t)pass_index;
+            if (vp_sgrid_insert(&s->g, (uint32_t)i, t->p, cur_r) != 0) {
+                r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+                done = 1;
+                break;
+            }
+            ok++;
+            /* the new sphere covers its cell for every later candidate */
+            if (diag <= s->rmin + cur_r && !hit[t->cell]) {
+                hit[t->cell] = 1;
+                hits[nhits++] = t->cell;
+            }
+            rep->placed++;
+            if (rep->placed >= want) {
+                rep->stop = VP_RSA_STOP_COUNT;
+                done = 1;
+                break;
+            }
+            cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
+        }
+        /* drop the cells that received a sphere, in dart order (swap with
+         * the last cell that is not itself being dropped) */
+        for (size_t h = 0; h < nhits; h++) hit[hits[h]] = 0;
+        if (nhits) {
+            /* sort hits descending so swaps never move a hit cell */
+            for (size_t h = 1; h < nhits; h++) {
+                size_t v = hits[h], m = h;
+                while (m > 0 && hits[m - 1] < v) { hits[m] = hits[m - 1]; m--; }
+                hits[m] = v;
+            }
+            for (size_t h = 0; h < nhits; h++) s->cells[hits[h]] = s->cells[--s->ncells];
+        }
+        if (r != VP_OK || done) break;
+        if (!vp_report_progress(s->ctx,
+                                prog0 + (prog1 - prog0) *
+                                            (ps->maximal ? (double)s->level / s->max_level
+                                                         : (double)rep->placed / (double)want),
+                                "rsa")) {
+            r = vp_fail(s->ctx, VP_ERR_CANCELLED, "rsa: cancelled");
+            break;
+        }
+        level_darts += used;
+        if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
+            level_darts >= s->ncells) {
+            level_darts = 0;
+            if (s->level >= s->max_level) {
+                /* cells this small are below the numbers' resolution: what
+                 * is left cannot take a centre that differs from a placed one */
+                rep->stop = VP_RSA_STOP_MAXIMAL;
+                break;
+            }
+            r = split_cells(s, 0, NULL);
+            if (r != VP_OK) break;
+        }
+    }
+    free(hit);
+    free(hits);
+    if (r != VP_OK) return r;
+    if (rep->placed == 0 && first == 0 && s->p->count == 0)
+        return vp_fail(s->ctx, VP_ERR_NO_FIT,
+                       "rsa: pass %u: no sphere of radius %.6g fits in the container (%s)",
+                       pass_index + 1, s->rmin,
+                       s->fit == VP_FIT_INSIDE ? "every sphere wholly inside" : "centres inside");
+    if (ps->grow && s->p->count > first) grow_pass(s, first, s->p->count, &rep->grow_mean);
+    rep->seconds = vp_seconds() - t0;
+    return VP_OK;
+}
+
+vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
+                      vp_particles **out, vp_rsa_report *report) {
+    double t0 = vp_seconds();
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: out is NULL");
+    *out = NULL;
+    if (!c || !params)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: container and params are required");
+    if (params->npasses < 1 || params->npasses > VP_MAX_GROUPS || !params->passes)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: between 1 and %d passes are needed",
+                       VP_MAX_GROUPS);
+    if (params->fit != VP_FIT_INSIDE && params->fit != VP_FIT_CENTER)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown fit");
+    double rmin = HUGE_VAL, rmax = 0, estimate = 0;
+    const vp_container_info *ci = &c->info;
+    for (size_t i = 0; i < params->npasses; i++) {
+        const vp_rsa_pass *ps = &params->passes[i];
+        double a = vp_size_dist_min(&ps->radius), b = vp_size_dist_max(&ps->radius);
+        if (!(a > 0) || !(b >= a) || !isfinite(b))
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "rsa: pass %zu: radii must be finite and > 0", i + 1);
+        if (ps->retries < 0)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: retries must be > 0",
+                           i + 1);
+        if (ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "rsa: pass %zu: a maximal pass needs a single radius", i + 1);
+        if (!ps->maximal && ps->count == 0)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: count must be > 0",
+                           i + 1);
+        if (a < rmin) rmin = a;
+        if (b > rmax) rmax = b;
+        double n = ps->maximal ? 0.4 * ci->volume / (4.0 / 3.0 * M_PI * a * a * a)
+                               : (double)ps->count;
+        double fill = 0.4 * ci->volume / (4.0 / 3.0 * M_PI * a * a * a);
+        estimate += n < fill * 1.2 ? n : fill * 1.2; /* no more than can fit */
+    }
+    double need = estimate * BYTES_PER_PARTICLE;
+    if (need > (double)vp_memory_limit(ctx)) {
+        char a[32], b[32];
+        vp_format_bytes(need, a, sizeof a);
+        vp_format_bytes((double)vp_memory_limit(ctx), b, sizeof b);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "rsa: about %.3g particles would need %s, over the memory limit of %s",
+                       estimate, a, b);
+    }
+    if (estimate >= (double)UINT32_MAX - 2)
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: more than 2^32 particles requested");
+
+    rsa s;
+    memset(&s, 0, sizeof s);
+    s.ctx = ctx;
+    s.c = c;
+    s.fit = params->fit;
+    s.threads = vp_threads_for(ctx);
+    s.margin = ci->voxel_size > 0 ? ci->voxel_size : 1e-12;
+    vp_result r = vp_particles_create(ctx, 0, &s.p);
+    if (r != VP_OK) return r;
+    if (reserve(s.p, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
+        vp_particles_destroy(s.p);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+    }
+    s.p->shape = VP_SHAPE_SPHERE;
+    s.p->group_count = (unsigned)params->npasses;
+    for (size_t i = 0; i < params->npasses; i++) {
+        if (params->passes[i].name[0])
+            snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "%s", params->passes[i].name);
+        else
+            snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "pass%zu", i + 1);
+    }
+    size_t grid_cells = (size_t)(2.0 * estimate) + 4096;
+    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0) {
+        vp_particles_destroy(s.p);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory for the neighbour grid");
+    }
+    vp_rsa_report rep;
+    memset(&rep, 0, sizeof rep);
+    rep.npasses = params->npasses;
+    for (size_t i = 0; i < params->npasses && r == VP_OK; i++) {
+        r = run_pass(&s, &params->passes[i], (unsigned)i, params->seed, &rep.passes[i],
+                     (double)i / params->npasses, (double)(i + 1) / params->npasses);
+    }
+    vp_sgrid_free(&s.g);
+    free(s.cells);
+    free(s.darts);
+    if (r != VP_OK) {
+        vp_particles_destroy(s.p);
+        return r;
+    }
+    rep.particle_volume = vp_particles_volume(s.p);
+    rep.seconds = vp_seconds() - t0;
+    if (report) *report = rep;
+    *out = s.p;
+    return VP_OK;
+}

@@ -1,0 +1,60 @@
+/* Neighbour search for spheres of mixed sizes: a hierarchy of dense cell
+ * grids (cell linked lists), one level per factor of two in radius, so a
+ * query costs about the same for small and large radii when sizes differ a
+ * lot (the random packers, vdbpack check). Internal to the core.
+ *
+ * Ownership: the grid owns its heads and links, never the positions and
+ * radii it indexes (the caller's arrays, which may grow: pass the current
+ * pointers to every call). Not thread-safe for insertion; queries may run
+ * concurrently with each other. */
+#ifndef VDBPACK_CORE_SGRID_H
+#define VDBPACK_CORE_SGRID_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define VP_SGRID_MAX_LEVELS 20
+#define VP_SGRID_NONE UINT32_MAX
+
+typedef struct vp_sgrid_level {
+    double h;              /* cell size */
+    int64_t dims[3];
+    uint32_t *head;        /* dims[0]*dims[1]*dims[2] first indices, or NONE */
+    double rmax;           /* largest radius stored at this level */
+} vp_sgrid_level;
+
+typedef struct vp_sgrid {
+    double origin[3];
+    int nlevels;
+    vp_sgrid_level lev[VP_SGRID_MAX_LEVELS];
+    uint32_t *next;        /* per particle: next index in its cell */
+    uint8_t *level_of;     /* per particle: its level */
+    size_t capacity;       /* of next/level_of */
+} vp_sgrid;
+
+/* Sets up an empty grid over [lo, hi] for radii in [rmin, rmax] (rmax may
+ * be exceeded later: queries stay exact, only slower). max_cells bounds the
+ * cells of each level (its cells grow to fit). Returns 0, or -1 when out of
+ * memory. */
+int vp_sgrid_init(vp_sgrid *g, const double lo[3], const double hi[3], double rmin, double rmax,
+                  size_t max_cells);
+void vp_sgrid_free(vp_sgrid *g);
+/* Empties every cell (keeps the allocation). */
+void vp_sgrid_clear(vp_sgrid *g);
+/* Inserts particle i (centre pos, radius r). Grows the links as needed;
+ * returns -1 when out of memory. Points outside [lo, hi] are clamped into
+ * the border cells (queries remain exact). */
+int vp_sgrid_insert(vp_sgrid *g, uint32_t i, const double pos[3], double r);
+/* Notes that particle i (already inserted) now has radius r. */
+void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r);
+
+/* Calls fn(user, j) for every particle j that may lie within `reach` of p
+ * in the sense |p - c_j| < reach + r_j (a superset: the caller tests
+ * exactly). Stops early and returns 1 when fn returns nonzero; else 0. */
+typedef int (*vp_sgrid_visit)(void *user, uint32_t j);
+int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
+                   void *user);
+
+/* Bytes the grid holds. */
+size_t vp_sgrid_bytes(const vp_sgrid *g);
+#endif

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# .vdb containers of the awkward kinds a pipeline hands over, made here with
+# pyopenvdb (not vdbpack): a level set stored as half floats with an empty
+# grid name; a file with a fog volume before the level set (the level set is
+# found); and the level-set volume against the analytic sphere.
+set -euo pipefail
+: "${VDBPACK:?}"
+PY=/usr/bin/python3
+$PY -c 'import pyopenvdb' 2>/dev/null || { echo "SKIP: pyopenvdb (python3-openvdb) not installed"; exit 77; }
+W=$(mktemp -d); trap 'rm -rf "$W"' EXIT; cd "$W"
+die() { echo "FAIL: $*"; exit 1; }
+$PY - <<'PY'
+import pyopenvdb as vdb
+ls = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
+ls.saveFloatAsHalf = True
+ls.name = ""
+vdb.write("half_unnamed.vdb", grids=[ls])
+fog = vdb.FloatGrid()
+fog.name = "density"
+fog.gridClass = vdb.GridClass.FOG_VOLUME
+fog.fill((0, 0, 0), (10, 10, 10), 1.0)
+ls2 = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
+ls2.name = "surface"
+vdb.write("fog_then_ls.vdb", grids=[fog, ls2])
+PY
+vdb_print -l half_unnamed.vdb 2>&1 | grep -q "^Name: *$" || die "the test file's grid has a name"
+for f in half_unnamed.vdb fog_then_ls.vdb; do
+  "$VDBPACK" pack "$f" --radius 0.1 -o out.vdb --json >s.json 2>s.err || die "$f: $(cat s.err)"
+  $PY - s.json "$f" <<'PY' || exit 1
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+v = 4.0 / 3.0 * math.pi
+assert d["container_kind"] == "level_set", d["container_kind"]
+assert abs(d["container_volume"] - v) < 0.02 * v, d["container_volume"]
+# FCC, radius 0.1 wholly inside a unit sphere: between the count of the
+# inner sphere of radius 0.9 at fraction 0.6 and the lattice's upper bound
+lo, hi = 0.6 * 0.9 ** 3 / 0.001, 0.7405 / 0.001
+assert lo < d["count"] < hi, (d["count"], lo, hi)
+print("  ok: %s: level set, volume %.4f (4/3 pi = %.4f), %d spheres" % (sys.argv[2],
+      d["container_volume"], v, d["count"]))
+PY
+done
+grep -q '"grid":"surface"' s.json || die "fog_then_ls.vdb: did not pick the level set 'surface': $(cat s.json)"
+echo "PASS: sh_levelset_inputs"
