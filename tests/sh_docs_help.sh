@@ -29,7 +29,9 @@ for cmd in pack info check; do
   echo "$cmd: $n_help options in --help, all documented"
 done
 # README's usage lines name commands that exist
-for cmd in $(grep -oE '^vdbpack [a-z]+' "$VP_SRC/README.md" | awk '{print $2}' | sort -u); do
+# (lines inside ``` fences only: prose may start with "vdbpack fills ...")
+for cmd in $(awk '/^```/ {f = !f; next} f' "$VP_SRC/README.md" | grep -oE '^vdbpack [a-z]+' |
+             awk '{print $2}' | sort -u); do
   "$VDBPACK" "$cmd" --help >/dev/null 2>&1 || { echo "FAIL: README names 'vdbpack $cmd', which has no --help"; fail=1; }
 done
 [ $fail -eq 0 ] && echo "docs and --help agree"

@@ -23,7 +23,11 @@ ls2 = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
 ls2.name = "surface"
 vdb.write("fog_then_ls.vdb", grids=[fog, ls2])
 PY
-vdb_print -l half_unnamed.vdb 2>&1 | grep -q "^Name: *$" || die "the test file's grid has a name"
+# (vdb_print's output goes to a file first: grep -q under pipefail would
+# fail on vdb_print's SIGPIPE)
+vdb_print -l half_unnamed.vdb >vp.txt 2>&1 || true
+grep -q "^Name: *$" vp.txt || die "the test file's grid has a name: $(head -5 vp.txt)"
+grep -q "Tree_float" vp.txt || die "the test file holds no float tree"
 for f in half_unnamed.vdb fog_then_ls.vdb; do
   "$VDBPACK" pack "$f" --radius 0.1 -o out.vdb --json >s.json 2>s.err || die "$f: $(cat s.err)"
   $PY - s.json "$f" <<'PY' || exit 1

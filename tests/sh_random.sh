@@ -77,12 +77,23 @@ import json; p = json.load(open('full.json'))['passes'][0]
 assert p['stop'] == 'retries' and 0 < p['placed'] < 500, p
 print('  ok: count 500 of radius 0.2 in a unit box: placed %d, stopped by retries' % p['placed'])" || die retries
 # same seed, same file; another seed, another file
-"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 7 --threads 1 -o d1.vdb -q
-"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 7 --threads 2 -o d2.vdb -q
-"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 8 -o d3.vdb -q
-cmp -s d1.vdb d2.vdb || die "rsa: 1 and 2 threads give different files"
-cmp -s d1.vdb d3.vdb && die "rsa: seeds 7 and 8 give the same file"
-echo "  ok: rsa output identical for 1 and 2 threads, different for another seed"
+# (the command line is file metadata: same command in t1/ and t2/, threads
+# from the environment)
+same_cmd() { # DIR THREADS METHOD-ARGS...
+  local d=$1 t=$2; shift 2
+  mkdir -p "$d"; (cd "$d" && VDBPACK_THREADS=$t "$VDBPACK" pack "$@" -o d.vdb -q) || die "pack in $d"
+}
+for m in "box:1,1,1 --method rsa --radius 0.03 --count 2000 --seed 7" \
+         "box:1,1,1 --method rsa --pass count=30,radius=0.08,grow --pass count=max,radius=0.03 --seed 7" \
+         "sphere:1 --method relax --radius uniform:0.5:1 --count 3000 --target-fraction 0.55 --seed 7"; do
+  # shellcheck disable=SC2086
+  same_cmd t1 1 $m; same_cmd t2 2 $m
+  # shellcheck disable=SC2086
+  same_cmd t3 2 ${m/--seed 7/--seed 8}
+  cmp -s t1/d.vdb t2/d.vdb || die "'$m': 1 and 2 threads give different files"
+  cmp -s t1/d.vdb t3/d.vdb && die "'$m': seeds 7 and 8 give the same file"
+  echo "  ok: identical for 1 and 2 threads, different for another seed: $m"
+done
 
 # bad input: one line on stderr, exit status, no output file
 bad() { # EXPECTED_STATUS WORD args...

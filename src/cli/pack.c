@@ -544,6 +544,14 @@ int vp_cli_pack(int argc, char **argv) {
     double t0 = now();
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
+    if (!o.threads && getenv("VDBPACK_THREADS")) {
+        const char *e = getenv("VDBPACK_THREADS");
+        if (vp_cli_parse_u64(e, &o.threads) != 0 || o.threads == 0 || o.threads > 256) {
+            vp_context_destroy(ctx);
+            return vp_cli_die(2, "pack: VDBPACK_THREADS must be a whole number in 1..256, not "
+                                 "'%s'", e);
+        }
+    }
     if (o.threads) vp_context_set_threads(ctx, (int)o.threads);
     if (o.max_memory) vp_context_set_max_memory(ctx, o.max_memory);
     progress prog = {now(), 0, !o.quiet && !o.json && isatty(2)};

@@ -58,7 +58,8 @@ typedef struct rsa {
     vp_fit fit;
     vp_particles *p;
     vp_sgrid g;
-    double margin;        /* level-set slack for the cell container tests */
+    double lipschitz;     /* bound on |grad distance|: 1 analytic, 1.1 level sets
+                             (trilinear interpolation of a discrete SDF) */
     int threads;
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
@@ -150,8 +151,11 @@ static int classify(const rsa *s, const cell *c, int level) {
     double m[3];
     cell_center(s, c, level, m);
     double d = vp_container_distance(s->c, m);
-    if (!(d - hd <= thr_for(s, s->rmin) + s->margin)) return 0; /* also NaN */
-    return d + hd <= thr_for(s, s->rmax) - s->margin ? 2 : 1;
+    /* the slack shrinks with the cell: a fixed one would keep a shell of
+     * cells beyond the wall alive at every level */
+    double reach = hd * s->lipschitz + 1e-12;
+    if (!(d - reach <= thr_for(s, s->rmin))) return 0; /* also NaN */
+    return d + reach <= thr_for(s, s->rmax) ? 2 : 1;
 }
 
 typedef struct cover_query {
@@ -433,7 +437,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     while (vol / (a0 * a0 * a0) > max_cells) a0 *= 2.0;
     s->cell_budget = (size_t)(2.0 * max_cells);
     if (ps->maximal) /* must refine to the end: only memory limits it */
-        s->cell_budget = (size_t)((double)vp_memory_limit(s->ctx) / (4.0 * sizeof(cell)));
+        s->cell_budget = (size_t)(16.0 * max_cells);
     s->split_blocked = 0;
     s->a0 = a0;
     int64_t dims[3];
@@ -446,8 +450,9 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     }
     int bits = 0;
     while (((int64_t)1 << bits) < maxdim) bits++;
-    s->max_level = 30 - bits < 40 ? 30 - bits : 40;
-    if (s->max_level > 36) s->max_level = 36;
+    /* cells no finer than 1e-5 of the radius (and coordinates within 31 bits) */
+    s->max_level = (int)ceil(log2(a0 / (1e-5 * s->rmin)));
+    if (s->max_level > 30 - bits) s->max_level = 30 - bits;
     s->level = 0;
     vp_result r = split_cells(s, 1, dims);
     if (r != VP_OK) return r;
@@ -589,6 +594,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             }
             r = split_cells(s, 0, NULL);
             if (r != VP_OK) break;
+            if (s->split_blocked && ps->maximal) /* honest fallback: retries end it */
+                retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
         }
     }
     free(hit);
@@ -658,7 +665,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.c = c;
     s.fit = params->fit;
     s.threads = vp_threads_for(ctx);
-    s.margin = ci->voxel_size > 0 ? ci->voxel_size : 1e-12;
+    s.lipschitz = ci->voxel_size > 0 ? 1.1 : 1.0;
     vp_result r = vp_particles_create(ctx, 0, &s.p);
     if (r != VP_OK) return r;
     if (reserve(s.p, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
