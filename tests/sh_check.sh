@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# `vdbpack check`: every packer's output passes it (lattice spheres and each
+# solid, 16-bit fixed-point and float P, analytic and mesh containers), and
+# violations made by OpenVDB's own vdb_ax (not vdbpack) are caught: pscale
+# scaled up (overlaps), one point moved out of the container (outside),
+# with exit status 3, one line on stderr under -q, and the JSON figures.
+set -euo pipefail
+: "${VDBPACK:?}" "${VP_SRC:?}"
+command -v vdb_ax >/dev/null || { echo "SKIP: vdb_ax not installed"; exit 77; }
+PY=/usr/bin/python3
+W=$(mktemp -d); trap 'rm -rf "$W"' EXIT; cd "$W"
+die() { echo "FAIL: $*"; exit 1; }
+AX=(env OPENVDB_DISABLE_DELAYED_LOAD=1 vdb_ax)
+jget() { "$PY" -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
+S="$VP_SRC/vdb_samples"
+
+passes() { # NAME CONTAINER pack-args...
+  local name=$1 cont=$2; shift 2
+  "$VDBPACK" pack "$cont" -o "$name.vdb" -q "$@" 2>"$name.err" || die "$name: pack: $(cat "$name.err")"
+  "$VDBPACK" check "$name.vdb" --container "$cont" --json >"$name.json" 2>"$name.err" ||
+    die "$name: check exited $?: $(cat "$name.err") $(cat "$name.json")"
+  [ "$(jget "$name.json" overlapping_pairs)" = 0 ] && [ "$(jget "$name.json" outside)" = 0 ] ||
+    die "$name: $(cat "$name.json")"
+  echo "  ok: $name: $(jget "$name.json" count) $(jget "$name.json" shape)s, no violation," \
+       "fraction $(jget "$name.json" packing_fraction), mean contacts $(jget "$name.json" mean_contacts)"
+}
+echo "=== every packer's output passes"
+passes fcc box:1,1,1 --radius 0.05
+passes hcp_center sphere:1 --lattice hcp --fit center --radius 0.07
+for s in tetrahedron cube octahedron dodecahedron icosahedron; do
+  passes "$s" sphere:1 --shape "$s" --radius 0.12
+done
+passes peanut "$S/peanut.obj" --radius 0.05
+passes rsa_peanut "$S/peanut.obj" --method rsa --pass count=50,radius=0.1,grow --pass count=2000,radius=0.03
+passes relax_torus "$S/torus_ls.vdb" --method relax --radius 0.04 --count 800 --target-fraction 0.45
+# lattice contacts: FCC has 12 neighbours inside; the mean is a bit lower for the border
+"$PY" -c "
+import json; d = json.load(open('fcc.json'))
+assert 6 < d['mean_contacts'] <= 12, d['mean_contacts']
+assert d['position_error'] > 0, 'fixed16 P should report its position error'
+print('  ok: FCC mean contacts %.2f (12 in the bulk); fixed16 position error %.3g' % (d['mean_contacts'], d['position_error']))" ||
+  die "fcc contacts"
+
+echo "=== violations made with vdb_ax are caught"
+viol() { # NAME SRC FIELD SNIPPET (vdb_ax)
+  local name=$1 src=$2 field=$3 code=$4
+  "${AX[@]}" -i "$src.vdb" -s "$code" -o "$name.vdb" >ax.out 2>&1 || die "vdb_ax: $(cat ax.out)"
+  set +e; "$VDBPACK" check "$name.vdb" --container "$5" --json >"$name.json" 2>"$name.err"; local st=$?; set -e
+  [ "$st" = 3 ] || die "$name: check exited $st, expected 3: $(cat "$name.err")"
+  [ "$(wc -l <"$name.err")" = 1 ] || die "$name: expected one line on stderr: $(cat "$name.err")"
+  [ "$(jget "$name.json" "$field")" != 0 ] || die "$name: $field is 0: $(cat "$name.json")"
+  echo "  ok: $name: exit 3, $field = $(jget "$name.json" "$field"): $(cat "$name.err")"
+}
+viol fcc_fat fcc overlapping_pairs '@pscale *= 1.01f;' box:1,1,1
+viol rsa_fat rsa_peanut overlapping_pairs 'if (i@id == 7) @pscale *= 3.0f;' "$S/peanut.obj"
+viol fcc_out fcc outside 'if (i@id == 0) @P.x += 2.0f;' box:1,1,1
+viol cube_out cube outside 'if (i@id == 3) @P.y += 1.5f;' sphere:1
+# the same overlap below the tolerance passes; above, the text report says VIOLATION
+"${AX[@]}" -i fcc.vdb -s '@pscale *= 1.0000001f;' -o tiny.vdb >/dev/null 2>&1
+"$VDBPACK" check tiny.vdb --container box:1,1,1 -q || die "an overlap of 1e-7 (below 1e-6) was flagged"
+set +e; "$VDBPACK" check fcc_fat.vdb --container box:1,1,1 >fat.txt 2>&1; st=$?; set -e
+[ "$st" = 3 ] && grep -q VIOLATION fat.txt || die "text report: exit $st: $(cat fat.txt)"
+"$VDBPACK" check fcc_fat.vdb --container box:1,1,1 --overlap-tolerance 0.02 -q ||
+  die "--overlap-tolerance 0.02 should accept a 1% overlap"
+echo "  ok: tolerance respected both ways"
+
+echo "=== bad input"
+bad() { # STATUS WORD args...
+  local want=$1 word=$2; shift 2
+  set +e; "$VDBPACK" check "$@" >bad.out 2>bad.err; local st=$?; set -e
+  [ "$st" = "$want" ] || die "check $*: exit $st, expected $want: $(cat bad.err)"
+  [ "$(wc -l <bad.err)" = 1 ] || die "check $*: $(wc -l <bad.err) lines on stderr"
+  grep -qi -- "$word" bad.err || die "check $*: message lacks '$word': $(cat bad.err)"
+  echo "  ok: $(cat bad.err)"
+}
+bad 2 "container" fcc.vdb
+bad 2 "no file" --container box:1,1,1
+bad 1 "no such file" missing.vdb --container box:1,1,1
+bad 1 "point data" "$S/sphere_ls.vdb" --container box:1,1,1
+bad 2 "malformed" fcc.vdb --container box:1,-1,1
+bad 2 "overlap-tolerance" fcc.vdb --container box:1,1,1 --overlap-tolerance -1
+bad 2 "unknown option" fcc.vdb --container box:1,1,1 --frobnicate
+echo "PASS: sh_check"
