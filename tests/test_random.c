@@ -1,0 +1,393 @@
+/* The random packers and the checker through the public API, on exact
+ * analytic containers, verified here by brute force (every pair, every
+ * particle against the analytic wall), never by the checker alone:
+ * size distributions (sample moments), RSA (zero overlaps, inside, groups,
+ * count and retry semantics, grow makes contacts, maximal leaves no room
+ * on a fine probe grid, determinism across thread counts), relaxation
+ * (overlap bound, inside, radius scale) and vp_check_particles (known
+ * overlaps, outsiders and contacts, spheres and cubes). */
+#include "vdbpack/vdbpack.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/rng.h"
+#include "core/size_dist_sample.h"
+#include "vp_test.h"
+
+static vp_context *ctx;
+
+static double rad(const vp_particles *p, size_t i) {
+    return p->radii ? p->radii[i] : p->uniform_radius;
+}
+
+/* Worst pair overlap relative to r_i + r_j, by brute force. */
+static double worst_overlap(const vp_particles *p) {
+    double worst = -HUGE_VAL;
+    for (size_t i = 0; i < p->count; i++)
+        for (size_t j = i + 1; j < p->count; j++) {
+            const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
+            double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                            (a[2] - b[2]) * (a[2] - b[2]));
+            double e = rad(p, i) + rad(p, j), o = (e - d) / e;
+            if (o > worst) worst = o;
+        }
+    return worst;
+}
+
+/* Largest d(centre) + r over a box [-h, h]^3 (fit inside: must be <= 0). */
+static double worst_wall_box(const vp_particles *p, double h) {
+    double worst = -HUGE_VAL;
+    for (size_t i = 0; i < p->count; i++)
+        for (int k = 0; k < 3; k++) {
+            double v = fabs(p->positions[3 * i + k]) + rad(p, i) - h;
+            if (v > worst) worst = v;
+        }
+    return worst;
+}
+
+static vp_container *unit_box(void) {
+    double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    return c;
+}
+
+static void test_size_dist(void) {
+    const char *specs[] = {"0.25", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6"};
+    for (int s = 0; s < 4; s++) {
+        vp_size_dist d;
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, specs[s], &d), VP_OK);
+        uint64_t st = 12345;
+        double m1 = 0, m3 = 0, lo = HUGE_VAL, hi = 0;
+        const int n = 400000;
+        double sum2 = 0;
+        for (int i = 0; i < n; i++) {
+            double r = vp_size_dist_sample(&d, &st);
+            m1 += r;
+            sum2 += r * r;
+            m3 += r * r * r;
+            if (r < lo) lo = r;
+            if (r > hi) hi = r;
+        }
+        m1 /= n;
+        m3 /= n;
+        double sd = sqrt(sum2 / n - m1 * m1);
+        fprintf(stderr, "   %s: mean %.5f (expected %.5f), E[r^3] %.6f (%.6f), sd %.5f, range "
+                        "[%.4f, %.4f]\n", specs[s], m1, vp_size_dist_mean(&d), m3,
+                vp_size_dist_mean_cube(&d), sd, lo, hi);
+        ASSERT_NEAR(m1, vp_size_dist_mean(&d), 0.005 * vp_size_dist_mean(&d));
+        ASSERT_NEAR(m3, vp_size_dist_mean_cube(&d), 0.01 * vp_size_dist_mean_cube(&d));
+        ASSERT_GE(lo, vp_size_dist_min(&d));
+        ASSERT_LE(hi, vp_size_dist_max(&d));
+        if (s == 1) ASSERT_NEAR(sd, 0.2 / sqrt(12.0), 0.002);        /* uniform */
+        if (s == 2) ASSERT_NEAR(sd, 0.05, 0.05 * 0.03);               /* lognormal SD */
+        if (s == 3) ASSERT_NEAR(m1, 0.3, 0.003);
+    }
+    const char *bad[] = {"-1", "0", "uniform:0.3:0.1", "gamma:1:2", "lognormal:0.1", "list:",
+                         "uniform:0.1:nan", "1e400", "0.1x"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        vp_size_dist d;
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, bad[i], &d), VP_ERR_INVALID_ARGUMENT);
+        ASSERT_TRUE(strlen(vp_context_message(ctx)) > 0);
+    }
+}
+
+static void test_rsa_binary_grow(void) {
+    vp_container *c = unit_box();
+    vp_rsa_pass ps[2];
+    vp_rsa_pass_init(&ps[0]);
+    vp_rsa_pass_init(&ps[1]);
+    ps[0].count = 40;
+    vp_size_dist_constant(&ps[0].radius, 0.07);
+    ps[0].grow = 1;
+    ps[1].count = 1200;
+    ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.012:0.02", &ps[1].radius), VP_OK);
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = ps;
+    rp.npasses = 2;
+    rp.seed = 5;
+    vp_particles *p = NULL;
+    vp_rsa_report rep;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_EQ_INT(p->count, 1240);
+    ASSERT_EQ_INT(rep.passes[0].placed, 40);
+    ASSERT_EQ_INT(rep.passes[1].placed, 1200);
+    ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_COUNT);
+    ASSERT_EQ_INT(p->group_count, 2);
+    ASSERT_TRUE(!strcmp(p->group_names[0], "pass1") && !strcmp(p->group_names[1], "pass2"));
+    size_t g0 = 0;
+    for (size_t i = 0; i < p->count; i++) g0 += p->groups[i] == 0;
+    ASSERT_EQ_INT(g0, 40);
+    double wo = worst_overlap(p), ww = worst_wall_box(p, 0.5);
+    fprintf(stderr, "   worst overlap %.3g, worst wall %.3g, grow x%.4f\n", wo, ww,
+            rep.passes[0].grow_mean);
+    ASSERT_LE(wo, 0.0);
+    ASSERT_LE(ww, 0.0);
+    ASSERT_GE(rep.passes[0].grow_mean, 1.05);
+    /* grow: every pass-1 sphere touches a sphere or the wall (gap <= 1e-6),
+     * measured against the particles present when it grew (pass 1 only) */
+    for (size_t i = 0; i < 40; i++) {
+        double gap = 0.5 - (fabs(p->positions[3 * i]) > fabs(p->positions[3 * i + 1])
+                                ? fabs(p->positions[3 * i]) : fabs(p->positions[3 * i + 1]));
+        double z = 0.5 - fabs(p->positions[3 * i + 2]);
+        if (z < gap) gap = z;
+        gap -= rad(p, i);
+        for (size_t j = 0; j < 40; j++) {
+            if (j == i) continue;
+            const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
+            double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                            (a[2] - b[2]) * (a[2] - b[2])) - rad(p, i) - rad(p, j);
+            if (d < gap) gap = d;
+        }
+        ASSERT_LE(gap, 1e-6);
+        ASSERT_GE(gap, 0.0);
+    }
+    /* the checker agrees */
+    vp_check_report cr;
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &cr), VP_OK);
+    ASSERT_EQ_INT(cr.overlapping_pairs, 0);
+    ASSERT_EQ_INT(cr.outside, 0);
+    ASSERT_GE(cr.contact_pairs, 20); /* 40 grown spheres each touch something */
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
+static void test_rsa_retries_and_no_fit(void) {
+    vp_container *c = unit_box();
+    vp_rsa_pass ps;
+    vp_rsa_pass_init(&ps);
+    ps.count = 500;
+    vp_size_dist_constant(&ps.radius, 0.2);
+    ps.retries = 200;
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = &ps;
+    rp.npasses = 1;
+    vp_particles *p = NULL;
+    vp_rsa_report rep;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    fprintf(stderr, "   radius 0.2, count 500: placed %zu, stop %d, tries %llu\n",
+            rep.passes[0].placed, (int)rep.passes[0].stop,
+            (unsigned long long)rep.passes[0].tries);
+    ASSERT_TRUE(rep.passes[0].placed > 0 && rep.passes[0].placed < 20);
+    ASSERT_TRUE(rep.passes[0].stop != VP_RSA_STOP_COUNT);
+    ASSERT_LE(worst_overlap(p), 0.0);
+    vp_particles_destroy(p);
+    /* a radius larger than the box: an error, not an empty packing */
+    vp_size_dist_constant(&ps.radius, 0.6);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_NO_FIT);
+    ASSERT_TRUE(p == NULL);
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "radius") != NULL);
+    /* retries 0 means the default; negative is refused */
+    ps.retries = -1;
+    vp_size_dist_constant(&ps.radius, 0.1);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_INVALID_ARGUMENT);
+    vp_container_destroy(c);
+}
+
+static void test_rsa_maximal_leaves_no_room(void) {
+    double ctr[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
+    const double r = 0.06;
+    vp_rsa_pass ps;
+    vp_rsa_pass_init(&ps);
+    ps.maximal = 1;
+    vp_size_dist_constant(&ps.radius, r);
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = &ps;
+    rp.npasses = 1;
+    rp.seed = 11;
+    vp_particles *p = NULL;
+    vp_rsa_report rep;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_MAXIMAL);
+    ASSERT_LE(worst_overlap(p), 0.0);
+    /* probe a fine grid (and random points): no admissible centre is free */
+    const int n = 90;
+    size_t admissible = 0, free_ = 0;
+    uint64_t st = 99;
+    for (int k = 0; k < n * n * n + 300000; k++) {
+        double x[3];
+        if (k < n * n * n) {
+            x[0] = -1 + 2 * ((k % n) + 0.5) / n;
+            x[1] = -1 + 2 * (((k / n) % n) + 0.5) / n;
+            x[2] = -1 + 2 * ((k / n / n) + 0.5) / n;
+        } else {
+            for (int m = 0; m < 3; m++) x[m] = -1 + 2 * vp_rng_uniform(&st);
+        }
+        if (sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) > 1 - r) continue;
+        admissible++;
+        int blocked = 0;
+        for (size_t i = 0; i < p->count && !blocked; i++) {
+            const double *c2 = p->positions + 3 * i;
+            double dx = x[0] - c2[0], dy = x[1] - c2[1], dz = x[2] - c2[2];
+            blocked = dx * dx + dy * dy + dz * dz < (r + rad(p, i)) * (r + rad(p, i));
+        }
+        free_ += !blocked;
+    }
+    double frac = vp_particles_volume(p) / (4.0 / 3.0 * M_PI);
+    fprintf(stderr, "   maximal: %zu spheres, fraction %.4f; %zu admissible probes, %zu free\n",
+            p->count, frac, admissible, free_);
+    ASSERT_EQ_INT(free_, 0);
+    ASSERT_GE(admissible, 300000);
+    ASSERT_GE(frac, 0.30); /* the wall costs a little against 0.38 in the bulk */
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
+static void test_rsa_deterministic(void) {
+    vp_container *c = unit_box();
+    vp_rsa_pass ps[2];
+    vp_rsa_pass_init(&ps[0]);
+    vp_rsa_pass_init(&ps[1]);
+    ps[0].count = 100;
+    vp_size_dist_constant(&ps[0].radius, 0.05);
+    ps[0].grow = 1;
+    ps[1].maximal = 1;
+    vp_size_dist_constant(&ps[1].radius, 0.02);
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = ps;
+    rp.npasses = 2;
+    rp.seed = 3;
+    vp_particles *a = NULL, *b = NULL;
+    vp_context_set_threads(ctx, 1);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, NULL), VP_OK);
+    vp_context_set_threads(ctx, 2);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &b, NULL), VP_OK);
+    vp_context_set_threads(ctx, 0);
+    ASSERT_EQ_INT(a->count, b->count);
+    ASSERT_TRUE(!memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)));
+    ASSERT_TRUE(!memcmp(a->radii, b->radii, a->count * sizeof(float)));
+    vp_particles_destroy(b);
+    rp.seed = 4;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &b, NULL), VP_OK);
+    ASSERT_TRUE(a->count != b->count ||
+                memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)));
+    vp_particles_destroy(a);
+    vp_particles_destroy(b);
+    vp_container_destroy(c);
+}
+
+static void test_relax(void) {
+    double ctr[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
+    vp_relax_params xp;
+    vp_relax_params_init(&xp);
+    ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.5:1", &xp.radius), VP_OK);
+    xp.count = 1500;
+    xp.target_fraction = 0.55;
+    xp.seed = 8;
+    vp_particles *p = NULL;
+    vp_relax_report rep;
+    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_OK);
+    double wo = worst_overlap(p), ww = -HUGE_VAL;
+    for (size_t i = 0; i < p->count; i++) {
+        const double *x = p->positions + 3 * i;
+        double v = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + rad(p, i) - 1.0;
+        if (v > ww) ww = v;
+    }
+    double frac = vp_particles_volume(p) / (4.0 / 3.0 * M_PI);
+    fprintf(stderr, "   relax: %d sweeps, worst overlap %.3g (reported %.3g), worst wall %.3g, "
+                    "fraction %.4f (%.4f before), radius scale %.4f\n", rep.sweeps, wo,
+            rep.max_overlap, ww, frac, rep.initial_fraction, rep.radius_scale);
+    ASSERT_LE(wo, 1e-6);
+    ASSERT_LE(rep.max_overlap, 1e-6);
+    ASSERT_LE(ww, 1e-12);
+    ASSERT_NEAR(rep.initial_fraction, 0.55, 1e-9);
+    ASSERT_TRUE(rep.radius_scale > 0.9 && rep.radius_scale <= 1.0);
+    ASSERT_NEAR(frac, 0.55 * pow(rep.radius_scale, 3), 1e-4);
+    vp_particles_destroy(p);
+    /* more volume than any packing can hold: refused */
+    xp.target_fraction = 0;
+    vp_size_dist_constant(&xp.radius, 0.5);
+    xp.count = 100;
+    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_ERR_NO_FIT);
+    ASSERT_TRUE(p == NULL);
+    xp.target_fraction = 1.0;
+    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_ERR_INVALID_ARGUMENT);
+    vp_container_destroy(c);
+}
+
+static void test_check_known_cases(void) {
+    vp_container *c = unit_box();
+    vp_particles *p = NULL;
+    ASSERT_EQ_INT(vp_particles_create(ctx, 4, &p), VP_OK);
+    p->radii = malloc(4 * sizeof(float));
+    p->count = 4;
+    double pos[4][3] = {{-0.2, 0, 0}, {0.0, 0, 0}, {0.3, 0, 0}, {0, 0.45, 0}};
+    float r[4] = {0.1f, 0.1f, 0.1f, 0.1f};
+    memcpy(p->positions, pos, sizeof pos);
+    memcpy(p->radii, r, sizeof r);
+    /* 0-1 touch exactly (d = 0.2); 1-2 gap 0.1; 3 crosses the wall by 0.05 */
+    vp_check_report rep;
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 0);
+    ASSERT_EQ_INT(rep.contact_pairs, 1);
+    ASSERT_EQ_INT(rep.outside, 1);
+    ASSERT_NEAR(rep.max_outside, 0.05, 1e-7);
+    ASSERT_NEAR(rep.mean_contacts, 0.5, 1e-12);
+    ASSERT_NEAR(rep.fraction, 4 * 4.0 / 3.0 * M_PI * pow(0.1f, 3), 1e-9);
+    /* centre fit: 3 is inside */
+    vp_check_params cp;
+    vp_check_params_init(&cp);
+    cp.fit = VP_FIT_CENTER;
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, &cp, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.outside, 0);
+    /* overlap 1 and 2 by 0.02 of r_i + r_j */
+    p->positions[6] = 0.2 * (1 - 0.02);
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 1);
+    ASSERT_NEAR(rep.max_overlap, 0.02, 1e-6);
+    ASSERT_NEAR(rep.max_overlap_world, 0.004, 1e-7);
+    cp.fit = VP_FIT_INSIDE;
+    cp.overlap_tolerance = 0.03;
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, &cp, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 0);
+    /* cubes: face to face touching is no overlap; turned 45 degrees about z,
+     * the second one's edge enters the first */
+    p->shape = VP_SHAPE_CUBE;
+    p->has_orient = 1;
+    double s = 0.1, half = s / sqrt(3.0); /* circumradius 0.1: half edge 0.1/sqrt(3) */
+    double cpos[4][3] = {{0, 0, 0}, {2 * half, 0, 0}, {-0.3, -0.3, -0.3}, {0.3, 0.3, 0.3}};
+    memcpy(p->positions, cpos, sizeof cpos);
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 0);
+    ASSERT_EQ_INT(rep.contact_pairs, 1);
+    ASSERT_EQ_INT(rep.outside, 0);
+    p->orients = malloc(16 * sizeof(float));
+    for (int i = 0; i < 4; i++) {
+        float q[4] = {0, 0, 0, 1};
+        if (i == 1) q[2] = (float)sin(M_PI / 8), q[3] = (float)cos(M_PI / 8);
+        memcpy(p->orients + 4 * i, q, sizeof q);
+    }
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    fprintf(stderr, "   turned cube: overlap %.4f of the radius\n", rep.max_overlap);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 1);
+    /* penetration: the edge reaches half * sqrt(2) - half beyond the face */
+    ASSERT_NEAR(rep.max_overlap_world, half * (sqrt(2.0) - 1), 1e-6);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
+int main(void) {
+    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    RUN_TEST(test_size_dist);
+    RUN_TEST(test_rsa_binary_grow);
+    RUN_TEST(test_rsa_retries_and_no_fit);
+    RUN_TEST(test_rsa_maximal_leaves_no_room);
+    RUN_TEST(test_rsa_deterministic);
+    RUN_TEST(test_relax);
+    RUN_TEST(test_check_known_cases);
+    vp_context_destroy(ctx);
+    fprintf(stderr, "PASS\n");
+    return 0;
+}
