@@ -306,6 +306,25 @@ static void test_relax(void) {
     ASSERT_TRUE(rep.radius_scale > 0.9 && rep.radius_scale <= 1.0);
     ASSERT_NEAR(frac, 0.55 * pow(rep.radius_scale, 3), 1e-4);
     vp_particles_destroy(p);
+    /* centre fit: no centre outside, no overlap (a radius step alone cannot
+     * bring a centre back: this caught that) */
+    xp.fit = VP_FIT_CENTER;
+    vp_size_dist_constant(&xp.radius, 0.1);
+    xp.count = 600;
+    xp.target_fraction = 0.6;
+    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_OK);
+    double cw = -HUGE_VAL;
+    for (size_t i = 0; i < p->count; i++) {
+        const double *x = p->positions + 3 * i;
+        double v = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) - 1.0;
+        if (v > cw) cw = v;
+    }
+    fprintf(stderr, "   relax, centre fit: worst centre %.3g outside, worst overlap %.3g\n", cw,
+            worst_overlap(p));
+    ASSERT_LE(cw, 1e-12);
+    ASSERT_LE(worst_overlap(p), 1e-6);
+    vp_particles_destroy(p);
+    xp.fit = VP_FIT_INSIDE;
     /* more volume than any packing can hold: refused */
     xp.target_fraction = 0;
     vp_size_dist_constant(&xp.radius, 0.5);

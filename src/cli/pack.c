@@ -516,8 +516,12 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             char sz[256];
             vp_size_dist_format(&o->passes[i].radius, sz, sizeof sz);
             printf("  %s: radius %s, placed %zu", p->group_names[i], sz, pr->placed);
-            if (o->passes[i].maximal)
+            if (o->passes[i].maximal && pr->stop == VP_RSA_STOP_MAXIMAL)
                 printf(" (maximal: no room left)");
+            else if (o->passes[i].maximal)
+                printf(" (maximal mode stopped by %d failed tries in a row: refining the empty "
+                       "space further would exceed its memory budget)",
+                       o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (pr->stop == VP_RSA_STOP_RETRIES)
                 printf(" of %zu (stopped: %d failed tries in a row)", pr->requested,
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);

@@ -31,7 +31,8 @@
  * the previous window's, each sphere still overlapping shrinks by SHRINK of
  * its worst relative overlap. Overlap relaxation stops once the worst
  * overlap is below FINISH (or the tolerance, if larger); the exact last
- * radius step then removes at most FINISH / 2 of a radius. */
+ * radius step then takes at most FINISH of r_i + r_j / 2 from a radius for a
+ * pair, and all of a wall overlap (up to 2 FINISH r_i). */
 #define STALL_WINDOW 64
 #define STALL_GAIN 0.9
 #define SHRINK 0.25
@@ -157,6 +158,22 @@ static int final_visit(void *user, uint32_t j) {
         if (o > q->worst) q->worst = o;
     }
     return 0;
+}
+
+/* Moves every centre that is outside (fit center) back along the distance
+ * gradient until the distance there is <= 0. */
+static void project_centres(relax *s) {
+    for (size_t i = 0; i < s->n; i++) {
+        double *x = s->x + 3 * i;
+        for (int it = 0; it < 8; it++) {
+            double d = vp_container_distance(s->c, x);
+            if (d <= 0) break;
+            double g[3];
+            vp_container_gradient(s->c, x, g);
+            double step = d * (1.0 + 1e-9) + 1e-12 + (it ? 1e-9 * s->r[i] * (1 << it) : 0.0);
+            for (int k = 0; k < 3; k++) x[k] -= step * g[k];
+        }
+    }
 }
 
 static void rebuild(relax *s) {
@@ -337,9 +354,27 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
             since = 0;
         }
     }
+    /* with centre fit, centres still outside go back onto the wall first
+     * (a radius step cannot move a centre) */
+    if (s.fit == VP_FIT_CENTER) project_centres(&s);
     /* the last radius step: removes what is left exactly */
     measure(&s, 1);
     double final_worst = measure(&s, 0);
+    for (size_t i = 0; i < n; i++)
+        if (!(s.r[i] > 0.5 * rmin)) {
+            res = vp_fail(ctx, VP_ERR_NO_FIT,
+                          "relax: no overlap-free state after %d sweeps without shrinking "
+                          "spheres by half (use fewer spheres or a lower --target-fraction)",
+                          sweeps);
+            goto done;
+        }
+    /* the work arrays go before the output is made (peak memory) */
+    vp_sgrid_free(&s.g);
+    free(s.nx);
+    free(s.ov);
+    free(s.wall);
+    s.nx = NULL;
+    s.ov = s.wall = NULL;
     /* output */
     res = vp_particles_create(ctx, n, &p);
     if (res != VP_OK) goto done;

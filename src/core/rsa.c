@@ -58,8 +58,8 @@ typedef struct rsa {
     vp_fit fit;
     vp_particles *p;
     vp_sgrid g;
-    double lipschitz;     /* bound on |grad distance|: 1 analytic, 1.1 level sets
-                             (trilinear interpolation of a discrete SDF) */
+    double lipschitz;     /* bound on |grad distance|: 1 analytic, sqrt(3) for
+                             level sets (trilinear interpolation) */
     int threads;
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
@@ -665,7 +665,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.c = c;
     s.fit = params->fit;
     s.threads = vp_threads_for(ctx);
-    s.lipschitz = ci->voxel_size > 0 ? 1.1 : 1.0;
+    /* trilinear interpolation of exact distances has partial derivatives up
+     * to 1 each, so its gradient can reach sqrt(3) near edges */
+    s.lipschitz = ci->voxel_size > 0 ? sqrt(3.0) : 1.0;
     vp_result r = vp_particles_create(ctx, 0, &s.p);
     if (r != VP_OK) return r;
     if (reserve(s.p, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
