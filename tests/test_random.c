@@ -242,6 +242,34 @@ static void test_rsa_maximal_leaves_no_room(void) {
     vp_container_destroy(c);
 }
 
+/* A count near saturation (0.333 of the box, saturated RSA: 0.384) is
+ * reached with the default retries: the sampler refines its cells in count
+ * mode too, instead of stopping by retries near 0.30 as plain darts do. */
+static void test_rsa_count_near_saturation(void) {
+    vp_container *c = unit_box();
+    const size_t n = 20000;
+    const double r = cbrt(0.333 / (n * 4.0 / 3.0 * M_PI));
+    vp_rsa_pass ps;
+    vp_rsa_pass_init(&ps);
+    ps.count = n;
+    vp_size_dist_constant(&ps.radius, r);
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = &ps;
+    rp.npasses = 1;
+    rp.seed = 5;
+    vp_particles *p = NULL;
+    vp_rsa_report rep;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    fprintf(stderr, "   %zu of %zu placed, stop %d, %llu tries\n", p->count, n, (int)rep.passes[0].stop,
+            (unsigned long long)rep.passes[0].tries);
+    ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_COUNT);
+    ASSERT_EQ_INT(p->count, n);
+    ASSERT_LE(worst_overlap(p), 0.0);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
 static void test_rsa_deterministic(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
@@ -403,6 +431,7 @@ int main(void) {
     RUN_TEST(test_rsa_binary_grow);
     RUN_TEST(test_rsa_retries_and_no_fit);
     RUN_TEST(test_rsa_maximal_leaves_no_room);
+    RUN_TEST(test_rsa_count_near_saturation);
     RUN_TEST(test_rsa_deterministic);
     RUN_TEST(test_relax);
     RUN_TEST(test_check_known_cases);

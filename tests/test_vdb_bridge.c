@@ -110,7 +110,7 @@ static void test_cube_levelset(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, &ls, err, sizeof err);
     if (rc) fprintf(stderr, "%s\n", err);
     ASSERT_EQ_INT(rc, VP_OK);
     ASSERT_TRUE(ls != NULL);
@@ -160,7 +160,7 @@ static void test_icosahedron_levelset(void)
     uint32_t t[60];
     make_icosahedron(c, r, v, t);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, 1, &ls, err, sizeof err);
     ASSERT_EQ_INT(rc, VP_OK);
     rc = vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err);
     ASSERT_EQ_INT(rc, VP_OK);
@@ -176,6 +176,56 @@ static void test_icosahedron_levelset(void)
     vpv_levelset_destroy(ls);
 }
 
+/* Without renormalization a closed mesh's level set holds exact distances:
+ * near a face's centre the distance is the plane distance, which trilinear
+ * interpolation reproduces, inside and outside. */
+static void test_exact_distances_without_renormalization(void)
+{
+    const double c[3] = {0.25, -0.5, 2.0}, r = 1.0;
+    double v[36];
+    uint32_t t[60];
+    make_icosahedron(c, r, v, t);
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, 0, &ls, err, sizeof err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    vpv_levelset_info info;
+    vpv_levelset_get_info(ls, &info);
+    const double a = r / sin(2.0 * M_PI / 5.0);
+    const double vol = 5.0 / 12.0 * (3.0 + sqrt(5.0)) * a * a * a;
+    ASSERT_NEAR(info.volume, vol, vol * 0.02);
+    double worst = 0;
+    unsigned state = 12345;
+    for (int f = 0; f < 20; f++) {
+        const double *p0 = v + 3 * t[3 * f], *p1 = v + 3 * t[3 * f + 1], *p2 = v + 3 * t[3 * f + 2];
+        double m[3], e1[3], e2[3], n[3];
+        for (int k = 0; k < 3; k++) {
+            m[k] = (p0[k] + p1[k] + p2[k]) / 3.0;
+            e1[k] = p1[k] - p0[k];
+            e2[k] = p2[k] - p0[k];
+        }
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        double out = (m[0] - c[0]) * n[0] + (m[1] - c[1]) * n[1] + (m[2] - c[2]) * n[2];
+        for (int k = 0; k < 3; k++) n[k] /= out > 0 ? nl : -nl; /* outward unit normal */
+        for (int s = 0; s < 10; s++) {
+            double q[3], u[4];
+            for (int k = 0; k < 4; k++) {
+                state = state * 1664525u + 1013904223u;
+                u[k] = (state >> 8) / 16777216.0 - 0.5;
+            }
+            for (int k = 0; k < 3; k++) q[k] = m[k] + 0.06 * u[0] * n[k] + 0.1 * (u[1] * e1[k] + u[2] * e2[k]);
+            double want = (q[0] - p0[0]) * n[0] + (q[1] - p0[1]) * n[1] + (q[2] - p0[2]) * n[2];
+            double got = vpv_levelset_sample(ls, q);
+            if (fabs(got - want) > worst) worst = fabs(got - want);
+        }
+    }
+    fprintf(stderr, "   largest error near faces: %.3g (voxel 0.03)\n", worst);
+    ASSERT_TRUE(worst < 1e-5);
+    vpv_levelset_destroy(ls);
+}
+
 /* Bad inputs are refused with a code and a message. */
 static void test_mesh_bad_input(void)
 {
@@ -184,13 +234,13 @@ static void test_mesh_bad_input(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = (vpv_levelset *)1;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, 1, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(ls == NULL && err[0] != 0);
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, 1, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
     t[5] = 8;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, 1, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
     t[5] = 3;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, &ls, err, sizeof err), VP_ERR_OUT_OF_MEMORY);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, 1, &ls, err, sizeof err), VP_ERR_OUT_OF_MEMORY);
     ASSERT_TRUE(strstr(err, "2000000") != NULL);
     ASSERT_TRUE(strchr(err, '\n') == NULL);
 }
@@ -202,7 +252,7 @@ static void test_open_mesh(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 1);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, &ls, err, sizeof err);
     fprintf(stderr, "   open cube: rc %d\n", rc);
     if (rc == VP_OK) {
         vpv_levelset_info info;
@@ -240,7 +290,7 @@ static void test_levelset_roundtrip(void)
     uint32_t t[60];
     make_icosahedron(c, 1.0, v, t);
     vpv_levelset *ls = NULL;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, &ls, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, 1, &ls, err, sizeof err), VP_OK);
     char a[300], b[300];
     tmp_path(a, sizeof a, "ls_a.vdb");
     tmp_path(b, sizeof b, "ls_b.vdb");
@@ -598,6 +648,7 @@ int main(void)
     vpv_init();
     RUN_TEST(test_cube_levelset);
     RUN_TEST(test_icosahedron_levelset);
+    RUN_TEST(test_exact_distances_without_renormalization);
     RUN_TEST(test_mesh_bad_input);
     RUN_TEST(test_open_mesh);
     RUN_TEST(test_levelset_roundtrip);

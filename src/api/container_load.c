@@ -186,9 +186,13 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
         vp_mesh_destroy(m);
         return vp_fail(ctx, VP_ERR_CANCELLED, "cancelled");
     }
+    /* a closed mesh keeps meshToVolume's exact closest-point distances: the
+     * renormalization pass only smooths bumps of self-overlapping (open,
+     * --allow-open) surfaces, and costs about a fifth of the time */
+    int closed = !m->boundary_edges && !m->nonmanifold_edges;
     vpv_levelset *ls = NULL;
     int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, voxel, ex_band,
-                                    in_band, &ls, err, sizeof err);
+                                    in_band, closed ? 0 : 1, &ls, err, sizeof err);
     vp_mesh_destroy(m);
     if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
     return finish_levelset(ctx, path, ls, &info, out);

@@ -221,6 +221,85 @@ static int push_cell(cell **buf, size_t *n, size_t *cap, cell c) {
     return 0;
 }
 
+/* --- look-ahead coverage ---------------------------------------------------------
+ * A child cell is dropped when it is proven to hold no admissible centre:
+ * the cell, or each of its sub-cells down to LOOKAHEAD levels below it, is
+ * either outside the container's admissible region or inside the exclusion
+ * ball of one placed sphere. The sub-cells are only visited, never stored,
+ * so cells on the seams between exclusion balls (covered by their union but
+ * by no single ball) are dropped at once instead of being split and stored
+ * level after level. The balls tested are gathered once per parent cell:
+ * only a ball that meets the parent can hold one of its sub-cells. Dropping
+ * needs a proof, so a ball left out (a full list) only keeps a cell. */
+#define LOOKAHEAD 3
+#define BALLS_MAX 96
+
+typedef struct ball_list {
+    size_t n;
+    double c[BALLS_MAX][3];
+    double e2[BALLS_MAX]; /* (rmin + r_j)^2 */
+    const rsa *s;
+    const double *m;      /* parent centre */
+    double half;          /* parent half side */
+} ball_list;
+
+static int gather_visit(void *user, uint32_t j) {
+    ball_list *b = user;
+    const double *c = b->s->p->positions + 3 * (size_t)j;
+    double e = b->s->rmin + b->s->p->radii[j], d2 = 0.0;
+    for (int k = 0; k < 3; k++) { /* distance from c to the parent box */
+        double t = fabs(b->m[k] - c[k]) - b->half;
+        if (t > 0) d2 += t * t;
+    }
+    if (d2 >= e * e || b->n == BALLS_MAX) return 0;
+    memcpy(b->c[b->n], c, sizeof b->c[0]);
+    b->e2[b->n] = e * e;
+    b->n++;
+    return 0;
+}
+
+/* 1 if one ball of the list holds the whole box (centre m, half side h). */
+static int ball_holds(const ball_list *b, const double m[3], double h) {
+    for (size_t i = 0; i < b->n; i++) {
+        double f = 0.0;
+        for (int k = 0; k < 3; k++) {
+            double t = fabs(m[k] - b->c[i][k]) + h;
+            f += t * t;
+        }
+        if (f < b->e2[i]) return 1;
+    }
+    return 0;
+}
+
+/* Container test of a box by its centre and half side, as classify(). */
+static int classify_box(const rsa *s, const double m[3], double half) {
+    double d = vp_container_distance(s->c, m);
+    double reach = half * sqrt(3.0) * s->lipschitz + 1e-12;
+    if (!(d - reach <= thr_for(s, s->rmin))) return 0;
+    return d + reach <= thr_for(s, s->rmax) ? 2 : 1;
+}
+
+/* 1 if the box is proven to hold no admissible centre, looking `depth`
+ * levels of sub-cells deep. valid: the box passes the container test. */
+static int box_excluded(const rsa *s, const ball_list *b, const double m[3], double h, int valid,
+                        int depth) {
+    if (ball_holds(b, m, h)) return 1;
+    if (depth == 0) return 0;
+    double q = 0.5 * h;
+    for (int o = 0; o < 8; o++) {
+        double c[3] = {m[0] + ((o & 1) ? q : -q), m[1] + ((o & 2) ? q : -q),
+                       m[2] + ((o & 4) ? q : -q)};
+        int v = valid;
+        if (!v) {
+            int k = classify_box(s, c, q);
+            if (!k) continue;
+            v = k == 2;
+        }
+        if (!box_excluded(s, b, c, q, v, depth - 1)) return 0;
+    }
+    return 1;
+}
+
 static void split_chunk(void *user, size_t i) {
     split_job *j = user;
     size_t lo = i * j->chunk, hi = lo + j->chunk;
@@ -241,20 +320,48 @@ static void split_chunk(void *user, size_t i) {
         return;
     }
     if (hi > j->nparents) hi = j->nparents;
+    const rsa *s = j->s;
+    double a = cell_side(s, j->child_level), h = 0.5 * a;
+    int depth = LOOKAHEAD;
+    if (j->child_level + depth > s->max_level) depth = s->max_level - j->child_level;
+    if (depth < 0) depth = 0;
+    ball_list *b = malloc(sizeof *b);
+    if (!b) {
+        j->failed = 1;
+        return;
+    }
+    b->s = s;
     for (size_t k = lo; k < hi; k++) {
-        if (j->nout[i] > j->s->cell_budget) {
+        if (j->nout[i] > s->cell_budget) {
             j->over = 1;
-            return;
+            break;
         }
         cell p = j->parents[k];
+        int pvalid = (p.z & VALID_BIT) != 0;
         uint32_t pz = p.z & ~VALID_BIT;
+        double pm[3];
+        cell_center(s, &p, j->child_level - 1, pm);
+        b->n = 0;
+        b->m = pm;
+        b->half = a;
+        if (s->p->count)
+            vp_sgrid_query(&s->g, pm, s->rmin + a * sqrt(3.0), gather_visit, b);
         for (int o = 0; o < 8; o++) {
             cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1)};
-            if (keep_cell(j->s, &c, j->child_level) &&
-                push_cell(&j->out[i], &j->nout[i], &j->cap[i], c))
-                j->failed = 1;
+            double m[3];
+            cell_center(s, &c, j->child_level, m);
+            int v = pvalid;
+            if (!v) {
+                int kk = classify_box(s, m, h);
+                if (!kk) continue;
+                v = kk == 2;
+            }
+            if (box_excluded(s, b, m, h, v, depth)) continue;
+            if (v) c.z |= VALID_BIT;
+            if (push_cell(&j->out[i], &j->nout[i], &j->cap[i], c)) j->failed = 1;
         }
     }
+    free(b);
 }
 
 /* Replaces the active cells by the kept children of every active cell (or,
@@ -435,9 +542,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (max_cells < 4096) max_cells = 4096;
     if (max_cells > 1 << 26) max_cells = 1 << 26;
     while (vol / (a0 * a0 * a0) > max_cells) a0 *= 2.0;
-    s->cell_budget = (size_t)(2.0 * max_cells);
-    if (ps->maximal) /* must refine to the end: only memory limits it */
-        s->cell_budget = (size_t)(16.0 * max_cells);
+    s->cell_budget = (size_t)(16.0 * max_cells);
     s->split_blocked = 0;
     s->a0 = a0;
     int64_t dims[3];
@@ -584,7 +689,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         }
         level_darts += used;
         if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
-            level_darts >= s->ncells) {
+            level_darts >= 2 * s->ncells) {
             level_darts = 0;
             if (s->level >= s->max_level) {
                 /* cells this small are below the numbers' resolution: what

@@ -40,10 +40,13 @@ typedef struct vpv_levelset_info {
  * their precision: the transform is centred on the mesh); tris: 3*ntris
  * indices. voxel: world voxel size. ex_band/in_band: exterior/interior
  * half-widths in voxels (in_band sized for the largest particle).
+ * renormalize: run OpenVDB's renormalization pass, which smooths bumps from
+ * self-intersecting or overlapping parts; 0 keeps the exact closest-point
+ * distances (closed meshes) and saves about a fifth of the time.
  * *out is owned by the caller (vpv_levelset_destroy). */
 int vpv_levelset_from_mesh(const double *verts, size_t nverts,
                            const uint32_t *tris, size_t ntris,
-                           double voxel, double ex_band, double in_band,
+                           double voxel, double ex_band, double in_band, int renormalize,
                            vpv_levelset **out, char *err, size_t errlen);
 
 /* Reads a level set from a .vdb. grid_name NULL: the first float level set

@@ -36,7 +36,7 @@ struct CentredMesh {
 
 extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const uint32_t *tris,
                                       size_t ntris, double voxel, double ex_band, double in_band,
-                                      vpv_levelset **out, char *err, size_t errlen)
+                                      int renormalize, vpv_levelset **out, char *err, size_t errlen)
 {
     clear(err, errlen);
     if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh: out is NULL");
@@ -86,7 +86,8 @@ extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const 
         openvdb::math::Transform::Ptr xf(new openvdb::math::Transform(
             openvdb::math::MapBase::Ptr(new openvdb::math::UniformScaleTranslateMap(
                 voxel, openvdb::Vec3d(mesh.c[0], mesh.c[1], mesh.c[2])))));
-        openvdb::FloatGrid::Ptr g = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *xf, exf, inf, 0);
+        openvdb::FloatGrid::Ptr g = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+            mesh, *xf, exf, inf, renormalize ? 0 : openvdb::tools::DISABLE_RENORMALIZATION);
         if (!g) return fail(err, errlen, VP_ERR_INTERNAL, "meshToVolume returned no grid");
         g->setGridClass(openvdb::GRID_LEVEL_SET);
         g->setName("container");
