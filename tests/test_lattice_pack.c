@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "core/container.h"
 #include "core/geom.h"
 #include "core/shape.h"
 #include "vdbpack/vdbpack.h"
@@ -61,6 +62,55 @@ static void test_sc_in_box_finds_aligned_placement(void) {
     ASSERT_NEAR(min_pair_distance(p), 2 * r, 1e-9);
     vp_particles_destroy(p);
     vp_container_destroy(c);
+}
+
+/* A level set's values stop at its interior band: deeper points read the
+ * band's depth. A sphere of radius R whose distance is clamped so, with the
+ * band 2.5 r deep (the band vdbpack sizes for r at voxel r/2), stands in for
+ * a voxelized container. */
+typedef struct clamped_sphere { double R, band; } clamped_sphere;
+
+static double clamped_distance(void *user, const double p[3]) {
+    const clamped_sphere *c = user;
+    double d = vp_norm3(p) - c->R;
+    return d < -c->band ? -c->band : d;
+}
+
+/* The placement search must still know which points fit for every offset
+ * when the band is only just deep enough: it limits its offsets to the band
+ * instead of re-testing every inside point per offset (which its budget
+ * then cut to its minimum of offsets), and finds as good a placement as on
+ * the exact sphere. */
+static void test_search_with_a_shallow_band(void) {
+    const double r = 1.0, R = 30.0;
+    clamped_sphere cs = {R, 2.5 * r - 3e-6};
+    vp_container_info info;
+    memset(&info, 0, sizeof info);
+    info.kind = VP_CONTAINER_LEVEL_SET;
+    for (int k = 0; k < 3; k++) {
+        info.bmin[k] = -R;
+        info.bmax[k] = R;
+    }
+    info.volume = 4.0 / 3.0 * M_PI * R * R * R;
+    info.voxel_size = 0.5 * r;
+    info.interior_band = cs.band;
+    static const vp_container_ops ops = {clamped_distance, NULL, NULL};
+    vp_container *c = NULL, *exact = NULL;
+    ASSERT_EQ_INT(vp_container_wrap(ctx, &ops, &cs, &info, &c), VP_OK);
+    double ctr[3] = {0, 0, 0};
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, R, &exact), VP_OK);
+    vp_lattice_report rep, rep_exact;
+    vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, r, 0, &rep);
+    vp_particles *q = pack(exact, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, r, 0, &rep_exact);
+    fprintf(stderr, "   band 2.5 r: %zu particles, %d offsets; exact sphere: %zu, %d offsets\n",
+            p->count, rep.offsets_tried, q->count, rep_exact.offsets_tried);
+    ASSERT_GE(rep.offsets_tried, 128);
+    ASSERT_GE((double)p->count, 0.999 * (double)q->count);
+    for (size_t i = 0; i < p->count; i++) ASSERT_LE(vp_norm3(p->positions + 3 * i), R - r + 1e-9);
+    vp_particles_destroy(p);
+    vp_particles_destroy(q);
+    vp_container_destroy(c);
+    vp_container_destroy(exact);
 }
 
 static void test_every_sphere_lattice_inside_and_touching(void) {
@@ -201,6 +251,7 @@ int main(void) {
     RUN_TEST(test_count_mode_within_two_percent);
     RUN_TEST(test_same_output_for_any_thread_count);
     RUN_TEST(test_refusals);
+    RUN_TEST(test_search_with_a_shallow_band);
     vp_context_destroy(ctx);
     return 0;
 }

@@ -437,7 +437,16 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
         setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->fit, r, q);
         classified cl;
         double m = noff > 1 ? covering_bound(&s) : 0.0;
-        if (cfg->c->info.voxel_size > 0) m += 0.05 * cfg->c->info.voxel_size;
+        if (cfg->c->info.voxel_size > 0) {
+            m += 0.05 * cfg->c->info.voxel_size;
+            /* Points deeper than the interior band read the band's depth,
+             * so a point is known to fit for every offset up to m only
+             * while r + m stays within the band: past that every inside
+             * point would be re-tested for every offset. Offsets are then
+             * limited to |o| <= m (count_at gives the others 0). */
+            double avail = cfg->c->info.interior_band + s.thr_in - 0.05 * cfg->c->info.voxel_size;
+            if (m > avail) m = avail > 0.0 ? avail : 0.0;
+        }
         if (classify(&s, m, cfg->threads, &cl) != 0) {
             free(u);
             free(counts);
