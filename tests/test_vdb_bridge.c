@@ -153,21 +153,35 @@ static void test_cube_levelset(void)
     vpv_levelset_destroy(NULL);
 }
 
+/* Icosahedron of circumradius r about c voxelized at 0.03 (band 3 voxels);
+ * checks the volume against the exact one. v and t receive the mesh. */
+static vpv_levelset *icosahedron_levelset(const double c[3], double r, int renormalize,
+                                          double v[36], uint32_t t[60])
+{
+    make_icosahedron(c, r, v, t);
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, &ls, err, sizeof err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    return ls;
+}
+
+static double icosahedron_volume(double r)
+{
+    const double a = r / sin(2.0 * M_PI / 5.0);
+    return 5.0 / 12.0 * (3.0 + sqrt(5.0)) * a * a * a;
+}
+
 static void test_icosahedron_levelset(void)
 {
     const double c[3] = {1.0, -2.0, 0.5}, r = 1.0;
     double v[36];
     uint32_t t[60];
-    make_icosahedron(c, r, v, t);
-    vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, 1, &ls, err, sizeof err);
-    ASSERT_EQ_INT(rc, VP_OK);
-    rc = vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err);
+    vpv_levelset *ls = icosahedron_levelset(c, r, 1, v, t);
+    int rc = vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err);
     ASSERT_EQ_INT(rc, VP_OK);
     vpv_levelset_info info;
     vpv_levelset_get_info(ls, &info);
-    const double a = r / sin(2.0 * M_PI / 5.0);
-    const double vol = 5.0 / 12.0 * (3.0 + sqrt(5.0)) * a * a * a;
+    const double vol = icosahedron_volume(r);
     ASSERT_NEAR(info.volume, vol, vol * 0.02);
     ASSERT_GE(info.interior_band, 0.3);
     ASSERT_EQ_INT(info.leaked, 0);
@@ -184,15 +198,10 @@ static void test_exact_distances_without_renormalization(void)
     const double c[3] = {0.25, -0.5, 2.0}, r = 1.0;
     double v[36];
     uint32_t t[60];
-    make_icosahedron(c, r, v, t);
-    vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, 0, &ls, err, sizeof err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    vpv_levelset *ls = icosahedron_levelset(c, r, 0, v, t);
     vpv_levelset_info info;
     vpv_levelset_get_info(ls, &info);
-    const double a = r / sin(2.0 * M_PI / 5.0);
-    const double vol = 5.0 / 12.0 * (3.0 + sqrt(5.0)) * a * a * a;
-    ASSERT_NEAR(info.volume, vol, vol * 0.02);
+    ASSERT_NEAR(info.volume, icosahedron_volume(r), icosahedron_volume(r) * 0.02);
     double worst = 0;
     unsigned state = 12345;
     for (int f = 0; f < 20; f++) {
