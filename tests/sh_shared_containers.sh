@@ -114,6 +114,31 @@ if [ -f "$VP_SHARED/zeno_res.vdb" ]; then
     fi
 fi
 
+# --- every file: packs and passes `vdbpack check`, or is refused ------------
+echo "=== every file in $VP_SHARED"
+for f in "$VP_SHARED"/*; do
+    m=$(basename "$f")
+    case $m in *.md|*.txt) continue ;; esac
+    rm -f every.vdb
+    rc=0
+    "$VDBPACK" pack "$f" --count 1000 -o every.vdb -q 2>err.txt || rc=$?
+    if [ "$rc" = 0 ]; then
+        crc=0
+        "$VDBPACK" check every.vdb --container "$f" >check.txt 2>&1 || crc=$?
+        if [ "$crc" = 0 ]; then
+            echo "  $m: packed, check passed: $(grep -Eo 'max_overlap[^,]*|outside[^,]*' check.txt | head -2 | tr '\n' ' ')"
+        else
+            fail "$m: packed but vdbpack check exits $crc: $(tail -3 check.txt)"
+        fi
+    else
+        if [ "$rc" -gt 2 ] || [ "$(wc -l <err.txt)" != 1 ] || ! grep -q "$m" err.txt || [ -e every.vdb ]; then
+            fail "$m: refused badly (exit $rc, $(wc -l <err.txt) lines, output left: $([ -e every.vdb ] && echo yes || echo no)): $(cat err.txt)"
+        else
+            echo "  $m: refused: $(cat err.txt)"
+        fi
+    fi
+done
+
 if [ "$NFAIL" -gt 0 ]; then
     echo "FAILED: $NFAIL check(s)"
     exit 1

@@ -26,4 +26,5 @@ static int vp_test_failures __attribute__((unused)) = 0;
 #define ASSERT_GE(a, b) ASSERT_LE(b, a)
 
 #define RUN_TEST(fn) do { fprintf(stderr, "-- %s\n", #fn); fn(); } while (0)
+#define RUN_TEST_ARGS(call) do { fprintf(stderr, "-- %s\n", #call); call; } while (0)
 #endif

@@ -89,6 +89,20 @@ static double estimate_radius(double vol, const vp_container_params *pp) {
     return cbrt(vol / ((double)pp->particle_count * space));
 }
 
+/* Polled by OpenVDB while it voxelizes (serialized by the bridge). */
+static int keep_going(void *ctx) {
+    return vp_report_progress((vp_context *)ctx, 0.5, "voxelizing");
+}
+
+/* Particles a request will make (0 when unknown): the count, or the
+ * container's volume over the space one particle of that radius takes. */
+static double estimate_particles(double vol, double radius, const vp_container_params *pp) {
+    if (pp->particle_count > 0) return (double)pp->particle_count;
+    if (radius > 0 && pp->space_per_particle > 0)
+        return vol / (pp->space_per_particle * radius * radius * radius);
+    return 0;
+}
+
 static double mesh_area(const vp_mesh *m) {
     double a = 0;
     for (size_t t = 0; t < m->ntris; t++) {
@@ -164,17 +178,23 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
      * about 4 bytes each plus tree overhead (x3) */
     double voxels = mesh_area(m) / (voxel * voxel) * (in_band + ex_band);
     double bytes = voxels * 12.0;
+    /* the particles come after the level set: a request too large for
+     * memory is refused now, not after minutes of voxelizing (48 bytes per
+     * particle is below every packer's own estimate, so nothing that fits
+     * is refused here) */
+    double particles = estimate_particles(vol, radius, pp);
     uint64_t limit = vp_memory_limit(ctx);
-    if (bytes > (double)limit || ext[0] / voxel > 1e6 || ext[1] / voxel > 1e6 ||
-        ext[2] / voxel > 1e6) {
-        char a[32], b[32];
-        vp_format_bytes(bytes, a, sizeof a);
+    if (bytes + particles * 48.0 > (double)limit || ext[0] / voxel > 1e6 ||
+        ext[1] / voxel > 1e6 || ext[2] / voxel > 1e6) {
+        char a[32], b[32], c[64] = "";
+        vp_format_bytes(bytes + particles * 48.0, a, sizeof a);
         vp_format_bytes((double)limit, b, sizeof b);
+        if (particles >= 1) snprintf(c, sizeof c, " and about %.3g particles", particles);
         vp_mesh_destroy(m);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
-                       "%s: voxelizing at voxel size %g needs an estimated %s, more than the "
-                       "limit of %s; use a larger --voxel-size or fewer, larger particles",
-                       name, voxel, a, b);
+                       "%s: voxelizing at voxel size %g%s need an estimated %s of memory, more "
+                       "than the limit of %s; use a larger --voxel-size or fewer, larger particles",
+                       name, voxel, c, a, b);
     }
     info.mesh_vertices = m->nverts;
     info.mesh_vertices_raw = m->nverts_raw;
@@ -191,8 +211,9 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
      * --allow-open) surfaces, and costs about a fifth of the time */
     int closed = !m->boundary_edges && !m->nonmanifold_edges;
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, voxel, ex_band,
-                                    in_band, closed ? 0 : 1, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh_cancellable(m->verts, m->nverts, m->tris, m->ntris, voxel,
+                                                ex_band, in_band, closed ? 0 : 1, keep_going,
+                                                ctx, &ls, err, sizeof err);
     vp_mesh_destroy(m);
     if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
     return finish_levelset(ctx, path, ls, &info, out);
@@ -213,6 +234,17 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
     double radius = pp->particle_radius;
     if (!(radius > 0) && pp->particle_count > 0 && li.volume > 0)
         radius = estimate_radius(li.volume, pp);
+    double particles = estimate_particles(li.volume, radius, pp);
+    uint64_t limit = vp_memory_limit(ctx);
+    if (particles * 48.0 > (double)limit) {
+        char a[32], b[32];
+        vp_format_bytes(particles * 48.0, a, sizeof a);
+        vp_format_bytes((double)limit, b, sizeof b);
+        vpv_levelset_destroy(ls);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "%s: about %.3g particles need an estimated %s of memory, more than the "
+                       "limit of %s; use fewer, larger particles", base_name(path), particles, a, b);
+    }
     if (radius > 0) {
         rc = vpv_levelset_ensure_interior(ls, 1.25 * radius + li.voxel_size, err, sizeof err);
         if (rc != VP_OK) {

@@ -14,6 +14,10 @@ int vp_cli_die(int status, const char *fmt, ...)
 
 /* `vdbpack pack ...` (argv as given to main). */
 int vp_cli_pack(int argc, char **argv);
+/* Only the option checks of `vdbpack pack` (and an analytic container's
+ * spec): 0, or the exit status after printing one line. For the option
+ * fuzzer (fuzz/fuzz_options.c). */
+int vp_cli_pack_parse_only(int argc, char **argv);
 
 /* Strict number parsing: the whole text must be a finite number. */
 int vp_cli_parse_double(const char *s, double *out);

@@ -80,7 +80,8 @@ static const char *PACK_HELP =
     "Container:\n"
     "  --voxel-size V          voxel size for meshes (default: automatic, see summary)\n"
     "  --allow-open            voxelize open or non-manifold meshes anyway\n"
-    "  --grid NAME             level-set grid to use from a .vdb (default: the first)\n"
+    "  --grid NAME             level-set grid to use from a .vdb (default: the first;\n"
+    "                          NAME[k]: the k-th of several grids named NAME)\n"
     "\n"
     "Output:\n"
     "  -o, --output FILE       output .vdb (required)\n"
@@ -105,16 +106,6 @@ static const char *INFO_HELP =
     "bounds; for points: count, attributes with codecs, groups) and its metadata.\n"
     "  --json      machine-readable output\n"
     "  -h, --help  this text\n";
-
-int vp_cli_die(int status, const char *fmt, ...) {
-    va_list ap;
-    fputs("vdbpack: ", stderr);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputc('\n', stderr);
-    return status;
-}
 
 static int cmd_info(int argc, char **argv) {
     const char *file = NULL;

@@ -52,6 +52,7 @@ typedef struct progress {
     double start;
     int shown;
     int bar; /* draw a bar (stderr is a terminal); else only watch for signals */
+    double last; /* when the bar was last drawn (redrawn at most 10 times a second) */
 } progress;
 
 static double now(void) {
@@ -63,7 +64,10 @@ static double now(void) {
 static int on_progress(void *user, double fraction, const char *stage) {
     progress *p = user;
     if (vp_cli_interrupted()) return 0; /* SIGINT/SIGTERM: cancel */
-    if (!p->bar || now() - p->start < 0.5) return 1;
+    if (!p->bar) return 1;
+    double t = now();
+    if (t - p->start < 0.5 || t - p->last < 0.1) return 1;
+    p->last = t;
     int w = 30, filled = (int)(fraction * w + 0.5);
     if (filled > w) filled = w;
     if (filled < 0) filled = 0;
@@ -306,16 +310,31 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     return 0;
 }
 
+/* The command line for the file's metadata, shell-quoted. --threads N is
+ * left out: the thread count never changes the result, and the file must be
+ * byte-identical for any thread count. */
 static void join_args(int argc, char **argv, char *out, size_t outlen) {
     size_t at = 0;
     out[0] = 0;
-    for (int i = 0; i < argc && at + 4 < outlen; i++) {
+    for (int i = 0; i < argc && at + 8 < outlen; i++) {
         const char *a = argv[i];
-        int quote = strpbrk(a, " \t'\"$") != NULL || !*a;
-        int n = snprintf(out + at, outlen - at, quote ? "%s'%s'" : "%s%s", i ? " " : "", a);
-        if (n < 0) break;
-        at += (size_t)n;
-        if (at >= outlen) { at = outlen - 1; break; }
+        if (i >= 2 && !strcmp(a, "--threads")) {
+            i++;
+            continue;
+        }
+        int quote = strpbrk(a, " \t'\"$\\`*?[]{}()<>|&;#~!") != NULL || !*a;
+        if (i && at + 1 < outlen) out[at++] = ' ';
+        if (quote && at + 1 < outlen) out[at++] = '\'';
+        for (const char *c = a; *c && at + 6 < outlen; c++) {
+            if (quote && *c == '\'') { /* 'it'\''s' */
+                memcpy(out + at, "'\\''", 4);
+                at += 4;
+            } else {
+                out[at++] = *c;
+            }
+        }
+        if (quote && at + 1 < outlen) out[at++] = '\'';
+        out[at] = 0;
     }
 }
 
@@ -541,6 +560,21 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
     printf("  wrote %s in %.2f s (packing %.2f s)\n", o->output, seconds, rr->pack_seconds);
 }
 
+int vp_cli_pack_parse_only(int argc, char **argv) {
+    pack_opts o;
+    int rc = parse_pack(argc, argv, &o);
+    if (rc) return rc;
+    vp_context *ctx = NULL;
+    if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
+    vp_container *c = NULL;
+    int an = vp_cli_analytic_container(ctx, o.container, &c);
+    vp_container_destroy(c);
+    vp_context_destroy(ctx);
+    if (an < 0)
+        return vp_cli_die(2, "pack: malformed analytic container '%s'", o.container);
+    return 0;
+}
+
 int vp_cli_pack(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
@@ -558,7 +592,7 @@ int vp_cli_pack(int argc, char **argv) {
     }
     if (o.threads) vp_context_set_threads(ctx, (int)o.threads);
     if (o.max_memory) vp_context_set_max_memory(ctx, o.max_memory);
-    progress prog = {now(), 0, !o.quiet && !o.json && isatty(2)};
+    progress prog = {now(), 0, !o.quiet && !o.json && isatty(2), 0.0};
     vp_context_set_progress(ctx, on_progress, &prog);
     vp_cli_signals_install();
 

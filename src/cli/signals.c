@@ -53,6 +53,9 @@ void vp_cli_signals_install(void) {
     sigaction(SIGTERM, &sa, NULL);
     sa.sa_handler = on_alarm;
     sigaction(SIGALRM, &sa, NULL);
+    /* past the file-size limit (ulimit -f) a write should fail with EFBIG,
+     * which the writers report and clean up, not kill the process */
+    signal(SIGXFSZ, SIG_IGN);
 }
 
 int vp_cli_interrupted(void) { return (int)g_signal; }

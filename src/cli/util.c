@@ -4,12 +4,27 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #include "cli/cli.h"
+
+/* One line, always: control characters from file names or option values
+ * (a newline in a path) are shown as '?'. */
+int vp_cli_die(int status, const char *fmt, ...) {
+    char msg[4096];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    for (char *c = msg; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
+    fprintf(stderr, "vdbpack: %s\n", msg);
+    return status;
+}
 
 int vp_cli_parse_double(const char *s, double *out) {
     if (!s || !*s || isspace((unsigned char)*s)) return -1;

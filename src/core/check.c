@@ -147,6 +147,11 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     }
     /* the wall */
     for (size_t i = 0; i < n; i++) {
+        if ((i & 0xffff) == 0xffff &&
+            !vp_report_progress(ctx, 0.9 + 0.1 * (double)i / n, "check: wall")) {
+            free(r);
+            return vp_fail(ctx, VP_ERR_CANCELLED, "check: cancelled");
+        }
         const double *x = p->positions + 3 * i;
         double v;
         if (params->fit == VP_FIT_CENTER) {

@@ -85,7 +85,9 @@ void vp_format_bytes(double bytes, char *out, size_t outlen) {
     const char *units[] = {"B", "KB", "MB", "GB", "TB", "PB", "EB"};
     int u = 0;
     while (bytes >= 1000.0 && u < 6) { bytes /= 1000.0; u++; }
-    snprintf(out, outlen, u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
+    /* beyond 1000 EB (absurd requests): %g keeps it short */
+    snprintf(out, outlen, bytes >= 1000.0 ? "%.3g %s" : u ? "%.1f %s" : "%.0f %s", bytes,
+             units[u]);
 }
 
 double vp_seconds(void) {

@@ -16,7 +16,7 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
                                   double timeout, vp_mesh **out, char *err, size_t errlen);
 
 /* Deadline for a file of that size: $VDBPACK_IMPORT_TIMEOUT seconds when
- * set, otherwise 60 s plus 2 s per MB. */
+ * set, otherwise 10 s plus 2 s per MB. */
 double vp_mesh_import_timeout(size_t file_bytes);
 
 #endif

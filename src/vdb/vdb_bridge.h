@@ -48,6 +48,14 @@ int vpv_levelset_from_mesh(const double *verts, size_t nverts,
                            const uint32_t *tris, size_t ntris,
                            double voxel, double ex_band, double in_band, int renormalize,
                            vpv_levelset **out, char *err, size_t errlen);
+/* Same, cancellable: keep_going(user) is polled (from worker threads, one
+ * call at a time) while OpenVDB voxelizes; once it returns 0 the work stops
+ * and the call returns VP_ERR_CANCELLED with nothing in *out. */
+int vpv_levelset_from_mesh_cancellable(const double *verts, size_t nverts,
+                                       const uint32_t *tris, size_t ntris, double voxel,
+                                       double ex_band, double in_band, int renormalize,
+                                       int (*keep_going)(void *user), void *user,
+                                       vpv_levelset **out, char *err, size_t errlen);
 
 /* Reads a level set from a .vdb. grid_name NULL: the first float level set
  * (GRID_LEVEL_SET class, float or double values; double is converted);

@@ -1,6 +1,12 @@
 // Shared plumbing of the C++ layer: initialisation, messages, exception
 // mapping, file checks, metadata and deterministic output.
+// OpenVDB's own log messages (log4cplus, e.g. "WARN: f.vdb has more than one
+// grid named ...") would be a second, uncoloured-by-us line on stderr: this
+// file turns them off; vdbpack reports every problem itself.
+#define OPENVDB_USE_LOG4CPLUS 1
 #include "vdb/vdb_internal.hpp"
+
+#include <openvdb/util/logging.h>
 
 #include <openvdb/points/PointDataGrid.h>
 
@@ -12,6 +18,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <mutex>
 #include <sys/stat.h>
 
@@ -19,7 +26,10 @@ extern "C" void vpv_init(void)
 {
     static std::once_flag once;
     try {
-        std::call_once(once, [] { openvdb::initialize(); });
+        std::call_once(once, [] {
+            openvdb::initialize();
+            openvdb::logging::setLevel(openvdb::logging::Level::Fatal);
+        });
     } catch (...) {
         // openvdb::initialize() does not throw in practice; nothing to report.
     }
@@ -104,10 +114,28 @@ int check_writable(const char *path, char *err, size_t errlen)
     return VP_OK;
 }
 
+static constexpr size_t kMinVdbBytes = 65;
+
 int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen)
 {
     int rc = check_readable(path, err, errlen);
     if (rc != VP_OK) return rc;
+    // The shortest complete .vdb (header, no metadata, no grids) has 65
+    // bytes; OpenVDB reads a shorter one as "no grids" without complaint.
+    if (FILE *f = fopen(path, "rb")) {
+        unsigned char head[kMinVdbBytes];
+        size_t got = fread(head, 1, sizeof head, f);
+        fclose(f);
+        int32_t magic = 0;
+        if (got >= 4) std::memcpy(&magic, head, 4);
+        if (got < sizeof head)
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        magic == openvdb::OPENVDB_MAGIC
+                            ? "%s: not a readable .vdb file (truncated: %zu bytes, shorter than "
+                              "any complete .vdb)"
+                            : "%s: not a readable .vdb file (%zu bytes, not a VDB file)",
+                        path, got);
+    }
     try {
         file.open(/*delayLoad=*/false);
     } catch (...) {
@@ -178,6 +206,42 @@ int make_deterministic(const char *path, char *err, size_t errlen)
     }
     if (fclose(f) != 0) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
     return VP_OK;
+}
+
+namespace {
+// Archive::write(std::ostream&, ..., seekable, ...) is protected: this gives
+// the checked writer the same format io::File writes.
+class CheckedArchive : public openvdb::io::Archive {
+public:
+    void writeTo(std::ostream &os, const openvdb::GridCPtrVec &grids,
+                 const openvdb::MetaMap &meta) const
+    {
+        write(os, grids, /*seekable=*/true, meta);
+    }
+};
+} // namespace
+
+int write_vdb_checked(const char *path, const openvdb::GridCPtrVec &grids,
+                      const openvdb::MetaMap &meta, char *err, size_t errlen)
+{
+    std::ofstream os(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
+    if (!os) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    CheckedArchive ar;
+    if (openvdb::io::Archive::hasBloscCompression())
+        ar.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+    errno = 0;
+    ar.writeTo(os, grids, meta);
+    os.flush();
+    int e = errno;
+    bool ok = bool(os);
+    os.close();
+    if (!ok || os.fail()) {
+        if (!e) e = errno ? errno : EIO;
+        return fail(err, errlen, VP_ERR_IO, "%s: writing failed (%s)", path,
+                    e == EFBIG ? "file too large: the file-size limit (ulimit -f) was reached"
+                               : strerror(e));
+    }
+    return make_deterministic(path, err, errlen);
 }
 
 static bool reserved_grid_key(const std::string &k)

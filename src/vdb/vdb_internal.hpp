@@ -73,6 +73,14 @@ std::string value_type_name(const openvdb::GridBase &g);
 // "'density' [fog volume, float], '' [level set, float]"
 std::string list_grids(const openvdb::GridPtrVec &grids);
 
+// Writes grids and file metadata to path as io::File would (seekable, Blosc
+// and active-mask compression), but through a stream whose every failure is
+// checked: io::File::write ignores a short write (disk full, RLIMIT_FSIZE),
+// which would leave a truncated file that looks written. Then makes the file
+// deterministic (below).
+int write_vdb_checked(const char *path, const openvdb::GridCPtrVec &grids,
+                      const openvdb::MetaMap &meta, char *err, size_t errlen);
+
 // Replaces the random UUID OpenVDB writes into the file header with a hash
 // of the rest of the file, so that equal content gives byte-identical files.
 int make_deterministic(const char *path, char *err, size_t errlen);

@@ -6,6 +6,7 @@
 #include <openvdb/tree/ValueAccessor.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 
 using namespace vpv;
@@ -101,8 +102,33 @@ extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_le
                             "%s: no float level set in the file (grids: %s)%s", path,
                             list_grids(grids).c_str(), unknown_class_note(grids).c_str());
         } else {
+            // "name" must be unique; "name[k]" picks the k-th of several
+            // grids sharing a name (io::File's own convention)
+            std::string want = grid_name;
+            long want_k = -1;
+            size_t nsame = 0;
             for (size_t i = 0; i < grids.size(); ++i)
-                if (grids[i] && grids[i]->getName() == grid_name) { pick = i; break; }
+                if (grids[i] && grids[i]->getName() == want && nsame++ == 0) pick = i;
+            if (nsame == 0 && want.size() > 3 && want.back() == ']') {
+                size_t lb = want.rfind('[');
+                char *end = nullptr;
+                if (lb != std::string::npos && lb + 1 < want.size() - 1) {
+                    want_k = std::strtol(want.c_str() + lb + 1, &end, 10);
+                    if (end != want.c_str() + want.size() - 1 || want_k < 0) want_k = -1;
+                }
+                if (want_k >= 0) {
+                    want.resize(lb);
+                    long k = 0;
+                    for (size_t i = 0; i < grids.size(); ++i)
+                        if (grids[i] && grids[i]->getName() == want && k++ == want_k) pick = i;
+                }
+            }
+            if (nsame > 1)
+                return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
+                            "%s: %zu grids are named '%s'; pick one with --grid '%s[0]' .. "
+                            "'%s[%zu]' (grids: %s)",
+                            path, nsame, grid_name, grid_name, grid_name, nsame - 1,
+                            list_grids(grids).c_str());
             if (pick == grids.size())
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "%s: no grid named '%s' (grids: %s)",
                             path, grid_name, list_grids(grids).c_str());
@@ -208,14 +234,7 @@ extern "C" int vpv_levelset_write(const vpv_levelset *ls, const char *path, cons
         fill_meta(fm, meta, meta_count, false);
         openvdb::GridCPtrVec grids;
         grids.push_back(ls->grid);
-        {
-            openvdb::io::File file(path);
-            if (openvdb::io::Archive::hasBloscCompression())
-                file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
-            file.write(grids, fm);
-            file.close();
-        }
-        return make_deterministic(path, err, errlen);
+        return write_vdb_checked(path, grids, fm, err, errlen);
     });
 }
 

@@ -1,6 +1,10 @@
 // Level sets from closed triangle meshes (openvdb::tools::meshToVolume).
 #include "vdb/vdb_internal.hpp"
 
+#include <atomic>
+#include <mutex>
+#include <openvdb/util/NullInterrupter.h>
+
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <cmath>
@@ -34,9 +38,38 @@ struct CentredMesh {
 
 } // namespace
 
+namespace {
+// OpenVDB interrupter around the library's progress callback: polled from
+// TBB worker threads, so calls are serialized and a refusal is latched.
+struct CallbackInterrupter : openvdb::util::NullInterrupter {
+    int (*keep_going)(void *) = nullptr;
+    void *user = nullptr;
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    bool wasInterrupted(int = -1) override
+    {
+        if (stop.load(std::memory_order_relaxed)) return true;
+        if (!keep_going) return false;
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!stop.load() && !keep_going(user)) stop.store(true);
+        return stop.load();
+    }
+};
+} // namespace
+
 extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const uint32_t *tris,
                                       size_t ntris, double voxel, double ex_band, double in_band,
                                       int renormalize, vpv_levelset **out, char *err, size_t errlen)
+{
+    return vpv_levelset_from_mesh_cancellable(verts, nverts, tris, ntris, voxel, ex_band, in_band,
+                                              renormalize, nullptr, nullptr, out, err, errlen);
+}
+
+extern "C" int vpv_levelset_from_mesh_cancellable(const double *verts, size_t nverts,
+                                                  const uint32_t *tris, size_t ntris, double voxel,
+                                                  double ex_band, double in_band, int renormalize,
+                                                  int (*keep_going)(void *user), void *user,
+                                                  vpv_levelset **out, char *err, size_t errlen)
 {
     clear(err, errlen);
     if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh: out is NULL");
@@ -86,8 +119,13 @@ extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const 
         openvdb::math::Transform::Ptr xf(new openvdb::math::Transform(
             openvdb::math::MapBase::Ptr(new openvdb::math::UniformScaleTranslateMap(
                 voxel, openvdb::Vec3d(mesh.c[0], mesh.c[1], mesh.c[2])))));
+        CallbackInterrupter interrupter;
+        interrupter.keep_going = keep_going;
+        interrupter.user = user;
         openvdb::FloatGrid::Ptr g = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-            mesh, *xf, exf, inf, renormalize ? 0 : openvdb::tools::DISABLE_RENORMALIZATION);
+            interrupter, mesh, *xf, exf, inf,
+            renormalize ? 0 : openvdb::tools::DISABLE_RENORMALIZATION);
+        if (interrupter.stop.load()) return fail(err, errlen, VP_ERR_CANCELLED, "cancelled");
         if (!g) return fail(err, errlen, VP_ERR_INTERNAL, "meshToVolume returned no grid");
         g->setGridClass(openvdb::GRID_LEVEL_SET);
         g->setName("container");

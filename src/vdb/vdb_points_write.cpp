@@ -209,13 +209,6 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
 
         openvdb::GridCPtrVec grids;
         grids.push_back(grid);
-        {
-            openvdb::io::File file(path);
-            if (openvdb::io::Archive::hasBloscCompression())
-                file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
-            file.write(grids, fm);
-            file.close();
-        }
-        return make_deterministic(path, err, errlen);
+        return write_vdb_checked(path, grids, fm, err, errlen);
     });
 }
