@@ -93,6 +93,15 @@ double vp_mesh_import_timeout(size_t file_bytes)
     return 10.0 + 2.0 * (double)file_bytes / 1e6;
 }
 
+/* AddressSanitizer reserves terabytes of address space for its shadow
+ * memory: an address-space limit would make it fail in the child
+ * (gcc says __SANITIZE_ADDRESS__, clang 14 only __has_feature). */
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define VP_NO_IMPORT_RLIMIT 1
+#endif
+#endif
+
 static void child_main(int fd, vp_mesh_import_fn fn, const void *arg)
 {
 #if !defined(__SANITIZE_ADDRESS__) && !defined(VP_NO_IMPORT_RLIMIT)
