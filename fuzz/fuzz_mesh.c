@@ -38,7 +38,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         isfinite(diag)) {
         vpv_levelset *ls = NULL;
         int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, diag / 12, 3, 3,
-                                        0, &ls, err, sizeof err);
+                                        0, NULL, NULL, &ls, err, sizeof err);
         if (rc == VP_OK) vpv_levelset_destroy(ls);
     }
     vp_mesh_destroy(m);

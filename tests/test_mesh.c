@@ -1,5 +1,6 @@
 /* Mesh input (src/mesh): Assimp import, welding, topology counts, errors. */
 #define _DEFAULT_SOURCE /* mkstemps */
+#include "mesh/isolate.h"
 #include "mesh/mesh.h"
 #include "vp_test.h"
 
@@ -383,6 +384,10 @@ static uint32_t rng(void)
  * Assimp 5.2 loop forever: the isolated reader must end it with one line. */
 static void test_import_hang_is_an_error(void)
 {
+    if (!vp_mesh_import_is_isolated()) {
+        fprintf(stderr, "   skipped: this build imports in-process (sanitizer build)\n");
+        return;
+    }
     setenv("VDBPACK_IMPORT_TIMEOUT", "2", 1);
     vp_mesh *m = NULL;
     struct timespec t0, t1;
@@ -409,6 +414,10 @@ static void test_import_hang_is_an_error(void)
 
 static void test_garbage(void)
 {
+    if (!vp_mesh_import_is_isolated()) { /* Assimp hangs on some of these */
+        fprintf(stderr, "   skipped: this build imports in-process (sanitizer build)\n");
+        return;
+    }
     static const char *hints[] = {"obj", "ply", "stl", "off", "gltf", "glb", "fbx",
                                   "3ds", "dae", "x", "blend", ""};
     const size_t nh = sizeof hints / sizeof hints[0];

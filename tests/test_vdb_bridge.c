@@ -110,7 +110,7 @@ static void test_cube_levelset(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err);
     if (rc) fprintf(stderr, "%s\n", err);
     ASSERT_EQ_INT(rc, VP_OK);
     ASSERT_TRUE(ls != NULL);
@@ -160,7 +160,7 @@ static vpv_levelset *icosahedron_levelset(const double c[3], double r, int renor
 {
     make_icosahedron(c, r, v, t);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, NULL, NULL, &ls, err, sizeof err);
     ASSERT_EQ_INT(rc, VP_OK);
     return ls;
 }
@@ -243,13 +243,13 @@ static void test_mesh_bad_input(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = (vpv_levelset *)1;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, 1, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(ls == NULL && err[0] != 0);
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, 1, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
     t[5] = 8;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, 1, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
     t[5] = 3;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, 1, &ls, err, sizeof err), VP_ERR_OUT_OF_MEMORY);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_OUT_OF_MEMORY);
     ASSERT_TRUE(strstr(err, "2000000") != NULL);
     ASSERT_TRUE(strchr(err, '\n') == NULL);
 }
@@ -261,7 +261,7 @@ static void test_open_mesh(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 1);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err);
     fprintf(stderr, "   open cube: rc %d\n", rc);
     if (rc == VP_OK) {
         vpv_levelset_info info;
@@ -299,7 +299,7 @@ static void test_levelset_roundtrip(void)
     uint32_t t[60];
     make_icosahedron(c, 1.0, v, t);
     vpv_levelset *ls = NULL;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, 1, &ls, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err), VP_OK);
     char a[300], b[300];
     tmp_path(a, sizeof a, "ls_a.vdb");
     tmp_path(b, sizeof b, "ls_b.vdb");

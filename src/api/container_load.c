@@ -94,6 +94,11 @@ static int keep_going(void *ctx) {
     return vp_report_progress((vp_context *)ctx, 0.5, "voxelizing");
 }
 
+/* Memory a particle needs at the least: below every packer's own estimate
+ * (lattice 80, RSA 64 bytes), so the loaders' early refusal (before
+ * voxelizing or widening a band) never refuses what would fit. */
+#define MIN_BYTES_PER_PARTICLE 48.0
+
 /* Particles a request will make (0 when unknown): the count, or the
  * container's volume over the space one particle of that radius takes. */
 static double estimate_particles(double vol, double radius, const vp_container_params *pp) {
@@ -179,15 +184,14 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
     double voxels = mesh_area(m) / (voxel * voxel) * (in_band + ex_band);
     double bytes = voxels * 12.0;
     /* the particles come after the level set: a request too large for
-     * memory is refused now, not after minutes of voxelizing (48 bytes per
-     * particle is below every packer's own estimate, so nothing that fits
-     * is refused here) */
+     * memory is refused now, not after minutes of voxelizing */
     double particles = estimate_particles(vol, radius, pp);
+    bytes += particles * MIN_BYTES_PER_PARTICLE;
     uint64_t limit = vp_memory_limit(ctx);
-    if (bytes + particles * 48.0 > (double)limit || ext[0] / voxel > 1e6 ||
+    if (bytes > (double)limit || ext[0] / voxel > 1e6 ||
         ext[1] / voxel > 1e6 || ext[2] / voxel > 1e6) {
         char a[32], b[32], c[64] = "";
-        vp_format_bytes(bytes + particles * 48.0, a, sizeof a);
+        vp_format_bytes(bytes, a, sizeof a);
         vp_format_bytes((double)limit, b, sizeof b);
         if (particles >= 1) snprintf(c, sizeof c, " and about %.3g particles", particles);
         vp_mesh_destroy(m);
@@ -211,9 +215,9 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
      * --allow-open) surfaces, and costs about a fifth of the time */
     int closed = !m->boundary_edges && !m->nonmanifold_edges;
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh_cancellable(m->verts, m->nverts, m->tris, m->ntris, voxel,
-                                                ex_band, in_band, closed ? 0 : 1, keep_going,
-                                                ctx, &ls, err, sizeof err);
+    int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, voxel, ex_band,
+                                    in_band, closed ? 0 : 1, keep_going, ctx, &ls, err,
+                                    sizeof err);
     vp_mesh_destroy(m);
     if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
     return finish_levelset(ctx, path, ls, &info, out);
@@ -235,10 +239,11 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
     if (!(radius > 0) && pp->particle_count > 0 && li.volume > 0)
         radius = estimate_radius(li.volume, pp);
     double particles = estimate_particles(li.volume, radius, pp);
+    double bytes = particles * MIN_BYTES_PER_PARTICLE;
     uint64_t limit = vp_memory_limit(ctx);
-    if (particles * 48.0 > (double)limit) {
+    if (bytes > (double)limit) {
         char a[32], b[32];
-        vp_format_bytes(particles * 48.0, a, sizeof a);
+        vp_format_bytes(bytes, a, sizeof a);
         vp_format_bytes((double)limit, b, sizeof b);
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,

@@ -560,6 +560,11 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
     printf("  wrote %s in %.2f s (packing %.2f s)\n", o->output, seconds, rr->pack_seconds);
 }
 
+static int malformed_analytic(const char *spec) {
+    return vp_cli_die(2, "pack: malformed analytic container '%s' (sphere:R or box:X,Y,Z with "
+                         "positive sizes)", spec);
+}
+
 int vp_cli_pack_parse_only(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
@@ -570,9 +575,7 @@ int vp_cli_pack_parse_only(int argc, char **argv) {
     int an = vp_cli_analytic_container(ctx, o.container, &c);
     vp_container_destroy(c);
     vp_context_destroy(ctx);
-    if (an < 0)
-        return vp_cli_die(2, "pack: malformed analytic container '%s'", o.container);
-    return 0;
+    return an < 0 ? malformed_analytic(o.container) : 0;
 }
 
 int vp_cli_pack(int argc, char **argv) {
@@ -604,8 +607,7 @@ int vp_cli_pack(int argc, char **argv) {
 
     int an = vp_cli_analytic_container(ctx, o.container, &c);
     if (an < 0) {
-        status = vp_cli_die(2, "pack: malformed analytic container '%s' (sphere:R or box:X,Y,Z "
-                               "with positive sizes)", o.container);
+        status = malformed_analytic(o.container);
         goto done;
     }
     if (an == 0) {

@@ -15,6 +15,11 @@ typedef vp_result (*vp_mesh_import_fn)(const void *arg, vp_mesh **out, char *err
 vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const char *name,
                                   double timeout, vp_mesh **out, char *err, size_t errlen);
 
+/* 1 when imports run in a child process (the product); 0 in fuzz and
+ * AddressSanitizer builds, which import in-process (see isolate.c): there a
+ * hang or crash of Assimp is not contained. */
+int vp_mesh_import_is_isolated(void);
+
 /* Deadline for a file of that size: $VDBPACK_IMPORT_TIMEOUT seconds when
  * set, otherwise 10 s plus 2 s per MB. */
 double vp_mesh_import_timeout(size_t file_bytes);

@@ -43,19 +43,15 @@ typedef struct vpv_levelset_info {
  * renormalize: run OpenVDB's renormalization pass, which smooths bumps from
  * self-intersecting or overlapping parts; 0 keeps the exact closest-point
  * distances (closed meshes) and saves about a fifth of the time.
+ * keep_going (may be NULL): polled with user (from worker threads, one call
+ * at a time) while OpenVDB voxelizes; once it returns 0 the work stops and
+ * the call returns VP_ERR_CANCELLED with nothing in *out.
  * *out is owned by the caller (vpv_levelset_destroy). */
 int vpv_levelset_from_mesh(const double *verts, size_t nverts,
                            const uint32_t *tris, size_t ntris,
                            double voxel, double ex_band, double in_band, int renormalize,
+                           int (*keep_going)(void *user), void *user,
                            vpv_levelset **out, char *err, size_t errlen);
-/* Same, cancellable: keep_going(user) is polled (from worker threads, one
- * call at a time) while OpenVDB voxelizes; once it returns 0 the work stops
- * and the call returns VP_ERR_CANCELLED with nothing in *out. */
-int vpv_levelset_from_mesh_cancellable(const double *verts, size_t nverts,
-                                       const uint32_t *tris, size_t ntris, double voxel,
-                                       double ex_band, double in_band, int renormalize,
-                                       int (*keep_going)(void *user), void *user,
-                                       vpv_levelset **out, char *err, size_t errlen);
 
 /* Reads a level set from a .vdb. grid_name NULL: the first float level set
  * (GRID_LEVEL_SET class, float or double values; double is converted);

@@ -93,18 +93,6 @@ int from_exception(const char *path, Op op, char *err, size_t errlen)
     }
 }
 
-int check_readable(const char *path, char *err, size_t errlen)
-{
-    if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
-    FILE *f = fopen(path, "rb");
-    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
-    struct stat st;
-    int dir = (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode));
-    fclose(f);
-    if (dir) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(EISDIR));
-    return VP_OK;
-}
-
 int check_writable(const char *path, char *err, size_t errlen)
 {
     if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
@@ -114,28 +102,32 @@ int check_writable(const char *path, char *err, size_t errlen)
     return VP_OK;
 }
 
+// The shortest complete .vdb (header, no metadata, no grids) has 65 bytes;
+// OpenVDB reads a shorter one as "no grids" without complaint.
 static constexpr size_t kMinVdbBytes = 65;
 
 int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen)
 {
-    int rc = check_readable(path, err, errlen);
-    if (rc != VP_OK) return rc;
-    // The shortest complete .vdb (header, no metadata, no grids) has 65
-    // bytes; OpenVDB reads a shorter one as "no grids" without complaint.
-    if (FILE *f = fopen(path, "rb")) {
-        unsigned char head[kMinVdbBytes];
-        size_t got = fread(head, 1, sizeof head, f);
+    if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
+    FILE *f = fopen(path, "rb");
+    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
         fclose(f);
-        int32_t magic = 0;
-        if (got >= 4) std::memcpy(&magic, head, 4);
-        if (got < sizeof head)
-            return fail(err, errlen, VP_ERR_FORMAT,
-                        magic == openvdb::OPENVDB_MAGIC
-                            ? "%s: not a readable .vdb file (truncated: %zu bytes, shorter than "
-                              "any complete .vdb)"
-                            : "%s: not a readable .vdb file (%zu bytes, not a VDB file)",
-                        path, got);
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(EISDIR));
     }
+    unsigned char head[kMinVdbBytes];
+    size_t got = fread(head, 1, sizeof head, f);
+    fclose(f);
+    int32_t magic = 0;
+    if (got >= 4) std::memcpy(&magic, head, 4);
+    if (got < sizeof head)
+        return fail(err, errlen, VP_ERR_FORMAT,
+                    magic == openvdb::OPENVDB_MAGIC
+                        ? "%s: not a readable .vdb file (truncated: %zu bytes, shorter than "
+                          "any complete .vdb)"
+                        : "%s: not a readable .vdb file (%zu bytes, not a VDB file)",
+                    path, got);
     try {
         file.open(/*delayLoad=*/false);
     } catch (...) {

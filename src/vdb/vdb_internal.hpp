@@ -56,14 +56,13 @@ int guard(const char *path, Op op, char *err, size_t errlen, F &&f) noexcept
     }
 }
 
-// VP_OK if path is an existing readable regular file, else VP_ERR_IO with
-// "path: cannot open file (reason)".
-int check_readable(const char *path, char *err, size_t errlen);
 // VP_OK if path can be created/truncated for writing, else VP_ERR_IO.
 int check_writable(const char *path, char *err, size_t errlen);
 
 // Opens an io::File for reading (no delayed loading), mapping failures to
-// VP_ERR_IO / VP_ERR_FORMAT.
+// VP_ERR_IO ("path: cannot open file (reason)": missing, unreadable, a
+// directory) / VP_ERR_FORMAT (shorter than any complete .vdb, or what
+// OpenVDB throws).
 int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen);
 
 // "level set", "fog volume", ...

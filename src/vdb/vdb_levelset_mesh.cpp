@@ -59,17 +59,8 @@ struct CallbackInterrupter : openvdb::util::NullInterrupter {
 
 extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const uint32_t *tris,
                                       size_t ntris, double voxel, double ex_band, double in_band,
-                                      int renormalize, vpv_levelset **out, char *err, size_t errlen)
-{
-    return vpv_levelset_from_mesh_cancellable(verts, nverts, tris, ntris, voxel, ex_band, in_band,
-                                              renormalize, nullptr, nullptr, out, err, errlen);
-}
-
-extern "C" int vpv_levelset_from_mesh_cancellable(const double *verts, size_t nverts,
-                                                  const uint32_t *tris, size_t ntris, double voxel,
-                                                  double ex_band, double in_band, int renormalize,
-                                                  int (*keep_going)(void *user), void *user,
-                                                  vpv_levelset **out, char *err, size_t errlen)
+                                      int renormalize, int (*keep_going)(void *user), void *user,
+                                      vpv_levelset **out, char *err, size_t errlen)
 {
     clear(err, errlen);
     if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh: out is NULL");
