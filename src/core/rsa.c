@@ -258,15 +258,22 @@ static int gather_visit(void *user, uint32_t j) {
     return 0;
 }
 
-/* 1 if one ball of the list holds the whole box (centre m, half side h). */
-static int ball_holds(const ball_list *b, const double m[3], double h) {
-    for (size_t i = 0; i < b->n; i++) {
+/* 1 if one ball of the list holds the whole box (centre m, half side h).
+ * *hint: the ball that held the last box, tried first (neighbouring
+ * sub-boxes are mostly held by the same ball); updated. */
+static int ball_holds(const ball_list *b, const double m[3], double h, size_t *hint) {
+    size_t n = b->n;
+    for (size_t t = 0; t < n; t++) {
+        size_t i = t == 0 ? *hint : (t <= *hint ? t - 1 : t);
         double f = 0.0;
         for (int k = 0; k < 3; k++) {
-            double t = fabs(m[k] - b->c[i][k]) + h;
-            f += t * t;
+            double u = fabs(m[k] - b->c[i][k]) + h;
+            f += u * u;
         }
-        if (f < b->e2[i]) return 1;
+        if (f < b->e2[i]) {
+            *hint = i;
+            return 1;
+        }
     }
     return 0;
 }
@@ -282,8 +289,8 @@ static int classify_box(const rsa *s, const double m[3], double half) {
 /* 1 if the box is proven to hold no admissible centre, looking `depth`
  * levels of sub-cells deep. valid: the box passes the container test. */
 static int box_excluded(const rsa *s, const ball_list *b, const double m[3], double h, int valid,
-                        int depth) {
-    if (ball_holds(b, m, h)) return 1;
+                        int depth, size_t *hint) {
+    if (ball_holds(b, m, h, hint)) return 1;
     if (depth == 0) return 0;
     double q = 0.5 * h;
     for (int o = 0; o < 8; o++) {
@@ -295,7 +302,7 @@ static int box_excluded(const rsa *s, const ball_list *b, const double m[3], dou
             if (!k) continue;
             v = k == 2;
         }
-        if (!box_excluded(s, b, c, q, v, depth - 1)) return 0;
+        if (!box_excluded(s, b, c, q, v, depth - 1, hint)) return 0;
     }
     return 1;
 }
@@ -342,6 +349,7 @@ static void split_chunk(void *user, size_t i) {
         double pm[3];
         cell_center(s, &p, j->child_level - 1, pm);
         b->n = 0;
+        size_t hint = 0;
         b->m = pm;
         b->half = a;
         if (s->p->count)
@@ -356,7 +364,7 @@ static void split_chunk(void *user, size_t i) {
                 if (!kk) continue;
                 v = kk == 2;
             }
-            if (box_excluded(s, b, m, h, v, depth)) continue;
+            if (box_excluded(s, b, m, h, v, depth, &hint)) continue;
             if (v) c.z |= VALID_BIT;
             if (push_cell(&j->out[i], &j->nout[i], &j->cap[i], c)) j->failed = 1;
         }
