@@ -44,6 +44,8 @@ same 0 box:1,1,1 --radius 0.1 --shape tetrahedron --precision full
 same 1 box:1,1,1 --method rsa --radius 0.03 --count 2000
 same 1 "$T" --method rsa --pass count=20,radius=0.3,grow --pass count=max,radius=0.08
 same 1 sphere:1 --method rsa --radius uniform:0.02:0.05 --count 1500 --retries 2000
+same 1 box:1,1,1 --method rsa --shape tetrahedron --radius 0.05 --count 800 --grow
+same 1 "$T" --method rsa --shape cube --overlap bbox --radius 0.1 --count 300
 same 1 sphere:1 --method relax --radius uniform:0.5:1 --count 2000 --target-fraction 0.55
 same 1 "$T" --method relax --radius 0.1 --count 500
 echo "PASS: sh_determinism ($n packers and settings)"

@@ -24,8 +24,23 @@ typedef struct vp_rsa_pass {
 } vp_rsa_pass;
 void vp_rsa_pass_init(vp_rsa_pass *p);
 
+typedef enum vp_orient_mode {
+    VP_ORIENT_RANDOM = 0, /* uniform random rotations (Shoemake), per particle */
+    VP_ORIENT_FIXED       /* every particle in the shape's canonical orientation */
+} vp_orient_mode;
+
+typedef enum vp_overlap_mode {
+    VP_OVERLAP_EXACT = 0, /* separating-axis test of the solids */
+    VP_OVERLAP_BBOX       /* axis-aligned bounding boxes (needs VP_ORIENT_FIXED):
+                             the original design's test */
+} vp_overlap_mode;
+
 typedef struct vp_rsa_params {
     vp_fit fit;
+    vp_shape shape;            /* VP_SHAPE_SPHERE (default) or a platonic solid;
+                                  radii are bounding-sphere radii */
+    vp_orient_mode orient;     /* solids only; default random */
+    vp_overlap_mode overlap;   /* solids only; default exact */
     const vp_rsa_pass *passes; /* not owned; npasses in 1..VP_MAX_GROUPS */
     size_t npasses;
     uint64_t seed;
@@ -54,8 +69,8 @@ typedef struct vp_rsa_report {
     double seconds;
 } vp_rsa_report;
 
-/* Fills container c; *out (owned by the caller) has radii, groups and no
- * orient. Deterministic in params->seed whatever the thread count. report
+/* Fills container c; *out (owned by the caller) has radii, groups and,
+ * for solids, one orient per particle. Deterministic in params->seed whatever the thread count. report
  * may be NULL. */
 vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
                       vp_particles **out, vp_rsa_report *report);

@@ -16,6 +16,8 @@ typedef struct pack_opts {
     const char *output;
     const char *method;
     vp_shape shape;
+    int orient;             /* -1 unset, else vp_orient_mode */
+    int overlap;            /* -1 unset, else vp_overlap_mode */
     vp_lattice lattice;
     vp_fit fit;
     double radius;          /* lattice: the radius */
@@ -100,9 +102,17 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax");
     if (!rsa && o->count_max)
         return vp_cli_die(2, "pack: --count max goes with --method rsa");
-    if (!lattice && o->shape != VP_SHAPE_SPHERE)
-        return vp_cli_die(2, "pack: --method %s packs spheres in this version (--shape %s needs "
-                             "--method lattice)", m, vp_shape_name(o->shape));
+    if (relax && o->shape != VP_SHAPE_SPHERE)
+        return vp_cli_die(2, "pack: --method relax packs spheres in this version (--shape %s "
+                             "needs --method lattice or rsa)", vp_shape_name(o->shape));
+    if ((o->orient >= 0 || o->overlap >= 0) && !(rsa && o->shape != VP_SHAPE_SPHERE))
+        return vp_cli_die(2, "pack: --orient and --overlap go with --method rsa and a --shape "
+                             "other than sphere");
+    if (o->overlap == VP_OVERLAP_BBOX && o->orient == VP_ORIENT_RANDOM)
+        return vp_cli_die(2, "pack: --overlap bbox needs --orient fixed (the axis-aligned box "
+                             "of a rotated solid does not bound it)");
+    if (o->overlap < 0) o->overlap = VP_OVERLAP_EXACT;
+    if (o->orient < 0) o->orient = o->overlap == VP_OVERLAP_BBOX ? VP_ORIENT_FIXED : VP_ORIENT_RANDOM;
     /* Random packings have particles in contact (grow, relax) or nearly so:
      * 16-bit fixed-point positions (1/65536 of a points voxel) would turn
      * contacts into overlaps, so they default to full precision. */
@@ -170,6 +180,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     memset(o, 0, sizeof *o);
     o->method = "lattice";
     o->shape = VP_SHAPE_SPHERE;
+    o->orient = -1;
+    o->overlap = -1;
     o->lattice = VP_LATTICE_DEFAULT;
     o->fit = VP_FIT_INSIDE;
     o->seed = 1;
@@ -191,6 +203,16 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             if (vp_shape_parse(v, &o->shape) != 0)
                 return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, tetrahedron, cube, "
                                      "octahedron, dodecahedron, icosahedron)", v);
+        } else if (!strcmp(a, "--orient")) {
+            VALUE();
+            if (!strcmp(v, "random")) o->orient = VP_ORIENT_RANDOM;
+            else if (!strcmp(v, "fixed")) o->orient = VP_ORIENT_FIXED;
+            else return vp_cli_die(2, "pack: unknown --orient '%s' (random, fixed)", v);
+        } else if (!strcmp(a, "--overlap")) {
+            VALUE();
+            if (!strcmp(v, "exact")) o->overlap = VP_OVERLAP_EXACT;
+            else if (!strcmp(v, "bbox")) o->overlap = VP_OVERLAP_BBOX;
+            else return vp_cli_die(2, "pack: unknown --overlap '%s' (exact, bbox)", v);
         } else if (!strcmp(a, "--lattice")) {
             VALUE();
             if (vp_lattice_parse(v, &o->lattice) != 0)
@@ -399,6 +421,9 @@ static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o
         vp_rsa_params rp;
         vp_rsa_params_init(&rp);
         rp.fit = o->fit;
+        rp.shape = o->shape;
+        rp.orient = (vp_orient_mode)o->orient;
+        rp.overlap = (vp_overlap_mode)o->overlap;
         rp.passes = o->passes;
         rp.npasses = (size_t)o->npasses;
         rp.seed = o->seed;
@@ -473,6 +498,10 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                l->offset[0], l->offset[1], l->offset[2], l->rotation[0], l->rotation[1],
                l->rotation[2], l->rotation[3]);
     } else if (!strcmp(o->method, "rsa")) {
+        if (o->shape != VP_SHAPE_SPHERE)
+            printf(",\"orient\":\"%s\",\"overlap\":\"%s\"",
+                   o->orient == VP_ORIENT_FIXED ? "fixed" : "random",
+                   o->overlap == VP_OVERLAP_BBOX ? "bbox" : "exact");
         printf(",\"passes\":[");
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
             const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
@@ -506,7 +535,12 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                vp_shape_name(o->shape), p->count == 1 ? "" : "s", rr->lat.radius, lattice_label(o),
                o->container);
     else
-        printf("vdbpack: packed %zu sphere%s by %s in %s\n", p->count, p->count == 1 ? "" : "s",
+        printf("vdbpack: packed %zu %s%s%s by %s in %s\n", p->count, vp_shape_name(o->shape),
+               p->count == 1 ? "" : "s",
+               o->shape == VP_SHAPE_SPHERE ? ""
+               : o->overlap == VP_OVERLAP_BBOX ? " (fixed orientation, bounding-box overlap)"
+               : o->orient == VP_ORIENT_FIXED  ? " (fixed orientation, exact overlap)"
+                                               : " (random orientations, exact overlap)",
                !strcmp(o->method, "rsa") ? "random sequential addition" : "relaxation",
                o->container);
     if (ci->kind == VP_CONTAINER_MESH)
@@ -697,6 +731,12 @@ int vp_cli_pack(int argc, char **argv) {
     } else if (!strcmp(o.method, "rsa")) {
         passes_text(&o, method_params, sizeof method_params);
         meta[nmeta++] = (vp_meta){"passes", VP_META_STRING, method_params, 0, 0};
+        if (o.shape != VP_SHAPE_SPHERE) {
+            meta[nmeta++] = (vp_meta){"orient", VP_META_STRING,
+                                      o.orient == VP_ORIENT_FIXED ? "fixed" : "random", 0, 0};
+            meta[nmeta++] = (vp_meta){"overlap", VP_META_STRING,
+                                      o.overlap == VP_OVERLAP_BBOX ? "bbox" : "exact", 0, 0};
+        }
     } else {
         vp_size_dist_format(&o.sizes, method_params, sizeof method_params);
         meta[nmeta++] = (vp_meta){"radius", VP_META_STRING, method_params, 0, 0};

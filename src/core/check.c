@@ -161,15 +161,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         } else {
             double q[4];
             orient_of(p, i, q);
-            v = -HUGE_VAL;
-            for (int k = 0; k < poly->nverts; k++) {
-                double w[3], s[3] = {poly->verts[k][0] * r[i], poly->verts[k][1] * r[i],
-                                     poly->verts[k][2] * r[i]};
-                vp_quat_rotate(q, s, w);
-                for (int m = 0; m < 3; m++) w[m] += x[m];
-                double d = vp_container_distance(c, w);
-                if (d > v) v = d;
-            }
+            v = vp_poly_wall_distance(c, poly, r[i], q, x, HUGE_VAL);
         }
         if (!(v <= wall_tol)) {
             rep.outside++;

@@ -32,8 +32,6 @@ typedef struct setup {
     double binv[3][3];         /* inverse of the matrix with columns b[k] */
     int nsites;
     double sites[2][3];        /* world site offsets */
-    int npv;
-    double pv[VP_POLY_MAX_VERTS][3]; /* world vertex offsets of one particle */
     double lo[3], hi[3];       /* box that holds every admissible centre */
     double thr_in;             /* d <= thr_in - m: in for every offset */
     double thr_out;            /* d >  thr_out + m: out for every offset */
@@ -96,11 +94,6 @@ static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis 
     }
     double shrink = 0.0;
     if (poly) {
-        s->npv = poly->nverts;
-        for (int k = 0; k < poly->nverts; k++) {
-            double v[3] = {poly->verts[k][0] * r, poly->verts[k][1] * r, poly->verts[k][2] * r};
-            vp_quat_rotate(q, v, s->pv[k]);
-        }
         if (fit == VP_FIT_INSIDE) shrink = poly->inradius * r;
     } else if (fit == VP_FIT_INSIDE) {
         shrink = r;
@@ -130,11 +123,7 @@ static int fits(const setup *s, const double x[3]) {
     double d = dist(s, x);
     if (d <= s->thr_in) return 1;
     if (d > s->thr_out || !s->poly || s->fit == VP_FIT_CENTER) return 0;
-    for (int k = 0; k < s->npv; k++) {
-        double y[3] = {x[0] + s->pv[k][0], x[1] + s->pv[k][1], x[2] + s->pv[k][2]};
-        if (!(dist(s, y) <= 0.0)) return 0;
-    }
-    return 1;
+    return vp_poly_wall_distance(s->c, s->poly, s->r, s->q, x, 0.0) <= 0.0;
 }
 
 /* Integer ranges of lattice coordinate k over box [lo,hi] at offset o. */

@@ -22,6 +22,7 @@
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sgrid.h"
+#include "core/shape.h"
 #include "core/size_dist_sample.h"
 
 #include <math.h>
@@ -47,6 +48,7 @@ typedef struct cell { uint32_t x, y, z; } cell;
 
 typedef struct dart {
     double p[3];
+    double q[4];  /* orientation (solids), as stored: float, renormalised */
     double d;     /* container distance (or -HUGE_VAL: cell known valid) */
     double clr;   /* min over earlier particles of |p - c_j| - r_j (capped) */
     uint32_t cell;
@@ -58,6 +60,17 @@ typedef struct rsa {
     vp_fit fit;
     vp_particles *p;
     vp_sgrid g;
+    const vp_polyhedron *poly; /* NULL: spheres */
+    double rin;           /* insphere / bounding-sphere radius (1 for spheres):
+                             two particles whose centres are closer than
+                             rin (r_i + r_j) overlap whatever their orientation */
+    int orient_random;    /* solids: draw a rotation per particle */
+    int bbox;             /* solids: overlap by axis-aligned boxes */
+    double bb_lo[3], bb_hi[3]; /* the unit solid's box (bbox mode) */
+    double reach;         /* bounding radius of what the overlap test compares, per
+                             unit radius: 1, or the box's farthest corner (bbox) */
+    double max_r;         /* largest radius placed so far */
+    double unit_volume;   /* of the shape at bounding radius 1 */
     double lipschitz;     /* bound on |grad distance|: 1 analytic, sqrt(3) for
                              level sets (trilinear interpolation) */
     int threads;
@@ -78,7 +91,14 @@ typedef struct rsa {
     uint64_t dart_base;   /* global index of the batch's first dart */
 } rsa;
 
-static double thr_for(const rsa *s, double r) { return s->fit == VP_FIT_INSIDE ? -r : 0.0; }
+/* Container thresholds on the centre's distance d: d <= thr_ok(r) passes
+ * the fit test for every orientation (the bounding sphere is inside);
+ * d > thr_drop(r) fails it (the insphere would cross the wall). The two
+ * are equal for spheres; between them a solid's surface decides. */
+static double thr_ok(const rsa *s, double r) { return s->fit == VP_FIT_INSIDE ? -r : 0.0; }
+static double thr_drop(const rsa *s, double r) {
+    return s->fit == VP_FIT_INSIDE ? -s->rin * r : 0.0;
+}
 
 /* --- particle storage ------------------------------------------------------- */
 
@@ -95,6 +115,11 @@ static int reserve(vp_particles *p, size_t want) {
     uint16_t *grp = realloc(p->groups, cap * sizeof *grp);
     if (!grp) return -1;
     p->groups = grp;
+    if (p->has_orient) {
+        float *o = realloc(p->orients, cap * 4 * sizeof *o);
+        if (!o) return -1;
+        p->orients = o;
+    }
     p->capacity = cap;
     return 0;
 }
@@ -133,6 +158,67 @@ static double clearance(const rsa *s, const double x[3], double reach, double st
     return q.best;
 }
 
+/* --- solids: exact tests ------------------------------------------------------
+ * A solid's orientation is tested as written: the float quaternion,
+ * renormalised in double (as vdbpack check reads it back). */
+
+static void quat_of(const float f[4], double q[4]) {
+    for (int k = 0; k < 4; k++) q[k] = f[k];
+    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; k++) q[k] /= n;
+}
+
+typedef struct solid_query {
+    const rsa *s;
+    const double *x; /* the candidate: centre, orientation, radius */
+    const double *q;
+    double r;
+    size_t skip;     /* never this j (grow: the particle itself) */
+} solid_query;
+
+/* 1 (stop) when particle j overlaps the candidate. */
+static int solid_visit(void *user, uint32_t j) {
+    solid_query *w = user;
+    const rsa *s = w->s;
+    if (j == w->skip) return 0;
+    const double *c = s->p->positions + 3 * (size_t)j;
+    double rj = s->p->radii[j], e = w->r + rj, d[3], d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        d[k] = w->x[k] - c[k];
+        d2 += d[k] * d[k];
+    }
+    if (d2 < s->rin * s->rin * e * e) return 1;        /* inspheres overlap */
+    if (d2 >= s->reach * s->reach * e * e) return 0;   /* bounding spheres (boxes) apart */
+    if (s->bbox) { /* boxes apart on one axis (touching counts as apart) */
+        for (int k = 0; k < 3; k++)
+            if (w->x[k] + w->r * s->bb_lo[k] >= c[k] + rj * s->bb_hi[k] ||
+                c[k] + rj * s->bb_lo[k] >= w->x[k] + w->r * s->bb_hi[k])
+                return 0;
+        return 1;
+    }
+    double qj[4];
+    quat_of(s->p->orients + 4 * (size_t)j, qj);
+    return !(vp_poly_separation(s->poly, w->r, w->q, w->x, s->poly, rj, qj, c) >= 0.0);
+}
+
+/* 1 if the solid (centre x with container distance d, orientation q,
+ * radius r) passes the fit test. */
+static int solid_fits_wall(const rsa *s, const double x[3], double d, const double q[4], double r) {
+    if (d <= thr_ok(s, r)) return 1;
+    if (s->fit == VP_FIT_CENTER || !(d <= thr_drop(s, r))) return 0;
+    return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
+}
+
+/* 1 if the solid fits the wall and overlaps none of particles [0, count). */
+static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
+                      size_t skip) {
+    if (!solid_fits_wall(s, x, d, q, r)) return 0;
+    solid_query w = {s, x, q, r, skip};
+    /* the grid finds j within reach + r_j: widen it for the boxes */
+    double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
+    return !vp_sgrid_query(&s->g, x, reach, solid_visit, &w);
+}
+
 /* --- active cells ------------------------------------------------------------- */
 
 static double cell_side(const rsa *s, int level) { return ldexp(s->a0, -level); }
@@ -154,8 +240,8 @@ static int classify(const rsa *s, const cell *c, int level) {
     /* the slack shrinks with the cell: a fixed one would keep a shell of
      * cells beyond the wall alive at every level */
     double reach = hd * s->lipschitz + 1e-12;
-    if (!(d - reach <= thr_for(s, s->rmin))) return 0; /* also NaN */
-    return d + reach <= thr_for(s, s->rmax) ? 2 : 1;
+    if (!(d - reach <= thr_drop(s, s->rmin))) return 0; /* also NaN */
+    return d + reach <= thr_ok(s, s->rmax) ? 2 : 1;
 }
 
 typedef struct cover_query {
@@ -163,12 +249,13 @@ typedef struct cover_query {
     const double *m;
     double half;
     double rmin;
+    double rin;
 } cover_query;
 
 static int cover_visit(void *user, uint32_t j) {
     cover_query *q = user;
     const double *c = q->p->positions + 3 * (size_t)j;
-    double e = q->rmin + q->p->radii[j], f = 0.0;
+    double e = q->rin * (q->rmin + q->p->radii[j]), f = 0.0;
     for (int k = 0; k < 3; k++) {
         double t = fabs(q->m[k] - c[k]) + q->half;
         f += t * t;
@@ -182,7 +269,7 @@ static int covered(const rsa *s, const cell *c, int level) {
     if (!s->p->count) return 0;
     double a = cell_side(s, level), m[3];
     cell_center(s, c, level, m);
-    cover_query q = {s->p, m, 0.5 * a, s->rmin};
+    cover_query q = {s->p, m, 0.5 * a, s->rmin, s->rin};
     return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
 }
 
@@ -246,7 +333,7 @@ typedef struct ball_list {
 static int gather_visit(void *user, uint32_t j) {
     ball_list *b = user;
     const double *c = b->s->p->positions + 3 * (size_t)j;
-    double e = b->s->rmin + b->s->p->radii[j], d2 = 0.0;
+    double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]), d2 = 0.0;
     for (int k = 0; k < 3; k++) { /* distance from c to the parent box */
         double t = fabs(b->m[k] - c[k]) - b->half;
         if (t > 0) d2 += t * t;
@@ -282,8 +369,8 @@ static int ball_holds(const ball_list *b, const double m[3], double h, size_t *h
 static int classify_box(const rsa *s, const double m[3], double half) {
     double d = vp_container_distance(s->c, m);
     double reach = half * sqrt(3.0) * s->lipschitz + 1e-12;
-    if (!(d - reach <= thr_for(s, s->rmin))) return 0;
-    return d + reach <= thr_for(s, s->rmax) ? 2 : 1;
+    if (!(d - reach <= thr_drop(s, s->rmin))) return 0;
+    return d + reach <= thr_ok(s, s->rmax) ? 2 : 1;
 }
 
 /* 1 if the box is proven to hold no admissible centre, looking `depth`
@@ -457,7 +544,17 @@ static void make_darts(void *user, size_t ci) {
         t->p[2] = s->origin[2] + ((double)(c->z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
         t->d = (c->z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
-        if (t->d <= thr_for(s, s->rmin) && s->n0)
+        if (s->poly) { /* the exact tests depend on the radius: on accepting */
+            float f[4] = {0, 0, 0, 1};
+            if (s->orient_random) {
+                double q[4];
+                vp_rng_quat(&st, q);
+                for (int m = 0; m < 4; m++) f[m] = (float)q[m];
+            }
+            quat_of(f, t->q);
+            continue;
+        }
+        if (t->d <= thr_ok(s, s->rmin) && s->n0)
             t->clr = clearance(s, t->p, s->rmax, s->rmin, 0, s->n0);
     }
 }
@@ -480,6 +577,37 @@ static double grow_one(const rsa *s, size_t i, double diag) {
     }
 }
 
+/* Largest radius (to a relative 1e-6) at which solid i still fits the wall
+ * and overlaps no other particle: doubling, then bisection on the exact
+ * tests. Scaling a convex solid about its centroid down keeps it inside
+ * itself, so "fits" is monotone in the radius. */
+static double grow_solid(const rsa *s, size_t i, double diag) {
+    const double *x = s->p->positions + 3 * i;
+    double q[4];
+    quat_of(s->p->orients + 4 * i, q);
+    double d = vp_container_distance(s->c, x);
+    double lo = s->p->radii[i], hi = lo;
+    for (;;) {
+        double next = 2.0 * hi;
+        if (next > diag) {
+            if (solid_free(s, x, d, q, diag, i)) return diag;
+            hi = diag;
+            break;
+        }
+        if (!solid_free(s, x, d, q, next, i)) {
+            hi = next;
+            break;
+        }
+        lo = hi = next;
+    }
+    while (hi - lo > 1e-6 * lo) {
+        double mid = 0.5 * (lo + hi);
+        if (solid_free(s, x, d, q, mid, i)) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
 /* Grows particles [first, last) in placement order. */
 static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
     double diag = 0;
@@ -491,7 +619,7 @@ static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
     double sum = 0;
     for (size_t i = first; i < last; i++) {
         double r0 = s->p->radii[i];
-        double b = grow_one(s, i, diag);
+        double b = s->poly ? grow_solid(s, i, diag) : grow_one(s, i, diag);
         /* a hair short of touching, so that the float radius and rounded
          * positions can never make the contact an overlap */
         double target = b * (1.0 - 4e-7);
@@ -499,6 +627,7 @@ static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
         while ((double)rf > target) rf = nextafterf(rf, 0.0f);
         if ((double)rf > r0) {
             s->p->radii[i] = rf;
+            if (rf > s->max_r) s->max_r = rf;
             vp_sgrid_grow(&s->g, (uint32_t)i, rf);
         }
         sum += (double)s->p->radii[i] / r0;
@@ -543,9 +672,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     }
     /* level-0 cells: fine enough that a placed sphere covers its cell after
      * one split, coarse enough to keep the count near the particles' */
-    double expect = ps->maximal ? 0.4 * vol / (4.0 / 3.0 * M_PI * s->rmin * s->rmin * s->rmin)
+    double expect = ps->maximal ? 0.4 * vol / (s->unit_volume * s->rmin * s->rmin * s->rmin)
                                 : (double)ps->count;
-    double a0 = 2.0 * s->rmin / sqrt(3.0); /* diagonal 2 rmin: a sphere covers its cell */
+    /* diagonal 2 rin rmin: a particle covers its cell */
+    double a0 = 2.0 * s->rin * s->rmin / sqrt(3.0);
     double max_cells = 2.0 * expect;
     if (max_cells < 4096) max_cells = 4096;
     if (max_cells > 1 << 26) max_cells = 1 << 26;
@@ -571,7 +701,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (r != VP_OK) return r;
 
     size_t retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
-    if (ps->maximal) retries = SIZE_MAX; /* ends when no cell is left */
+    /* maximal: ends when no cell is left. For solids the cells are dropped
+     * only by inspheres (a necessary condition), so they seldom run out:
+     * the retry limit ends those passes. */
+    if (ps->maximal && !s->poly) retries = SIZE_MAX;
     size_t want = ps->maximal ? SIZE_MAX : ps->count;
     size_t first = s->p->count, consecutive = 0;
     double cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
@@ -617,8 +750,13 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             const dart *t = &s->darts[k];
             used++;
             rep->tries++;
-            int good = t->d <= thr_for(s, cur_r) && t->clr >= cur_r;
-            if (good && s->p->count > s->n0) {
+            int good;
+            if (s->poly) {
+                good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
+            } else {
+                good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r;
+            }
+            if (good && !s->poly && s->p->count > s->n0) {
                 size_t nnew = s->p->count - s->n0;
                 if (nnew <= 24) {
                     for (size_t i = s->n0; i < s->p->count && good; i++) {
@@ -654,7 +792,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             size_t i = s->p->count++;
             memcpy(s->p->positions + 3 * i, t->p, sizeof t->p);
             s->p->radii[i] = (float)cur_r;
+            if (cur_r > s->max_r) s->max_r = cur_r;
             s->p->groups[i] = (uint16_t)pass_index;
+            if (s->poly)
+                for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)t->q[m];
             if (vp_sgrid_insert(&s->g, (uint32_t)i, t->p, cur_r) != 0) {
                 r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
                 done = 1;
@@ -662,7 +803,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             }
             ok++;
             /* the new sphere covers its cell for every later candidate */
-            if (diag <= s->rmin + cur_r && !hit[t->cell]) {
+            if (diag <= s->rin * (s->rmin + cur_r) && !hit[t->cell]) {
                 hit[t->cell] = 1;
                 hits[nhits++] = t->cell;
             }
@@ -736,6 +877,18 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        VP_MAX_GROUPS);
     if (params->fit != VP_FIT_INSIDE && params->fit != VP_FIT_CENTER)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown fit");
+    if ((int)params->shape < 0 || params->shape >= VP_SHAPE_COUNT)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown shape");
+    if (params->orient != VP_ORIENT_RANDOM && params->orient != VP_ORIENT_FIXED)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown orientation mode");
+    if (params->overlap != VP_OVERLAP_EXACT && params->overlap != VP_OVERLAP_BBOX)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown overlap test");
+    if (params->shape != VP_SHAPE_SPHERE && params->overlap == VP_OVERLAP_BBOX &&
+        params->orient == VP_ORIENT_RANDOM)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "rsa: the bounding-box overlap test needs fixed orientations (axis-aligned "
+                       "boxes of rotated solids would not bound them)");
+    const double unit_volume = vp_shape_unit_volume(params->shape);
     double rmin = HUGE_VAL, rmax = 0, estimate = 0;
     const vp_container_info *ci = &c->info;
     for (size_t i = 0; i < params->npasses; i++) {
@@ -755,9 +908,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                            i + 1);
         if (a < rmin) rmin = a;
         if (b > rmax) rmax = b;
-        double n = ps->maximal ? 0.4 * ci->volume / (4.0 / 3.0 * M_PI * a * a * a)
+        double n = ps->maximal ? 0.4 * ci->volume / (unit_volume * a * a * a)
                                : (double)ps->count;
-        double fill = 0.4 * ci->volume / (4.0 / 3.0 * M_PI * a * a * a);
+        double fill = 0.4 * ci->volume / (unit_volume * a * a * a);
         estimate += n < fill * 1.2 ? n : fill * 1.2; /* no more than can fit */
     }
     double need = estimate * BYTES_PER_PARTICLE;
@@ -781,13 +934,40 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     /* trilinear interpolation of exact distances has partial derivatives up
      * to 1 each, so its gradient can reach sqrt(3) near edges */
     s.lipschitz = ci->voxel_size > 0 ? sqrt(3.0) : 1.0;
+    s.unit_volume = unit_volume;
+    s.rin = 1.0;
+    s.reach = 1.0;
+    s.poly = vp_shape_polyhedron(params->shape);
+    if (s.poly) {
+        s.rin = s.poly->inradius;
+        s.orient_random = params->orient == VP_ORIENT_RANDOM;
+        s.bbox = params->overlap == VP_OVERLAP_BBOX;
+        s.reach = 1.0;
+        for (int k = 0; k < 3; k++) {
+            s.bb_lo[k] = HUGE_VAL;
+            s.bb_hi[k] = -HUGE_VAL;
+            for (int v = 0; v < s.poly->nverts; v++) {
+                if (s.poly->verts[v][k] < s.bb_lo[k]) s.bb_lo[k] = s.poly->verts[v][k];
+                if (s.poly->verts[v][k] > s.bb_hi[k]) s.bb_hi[k] = s.poly->verts[v][k];
+            }
+        }
+        if (s.bbox) {
+            double c2 = 0.0;
+            for (int k = 0; k < 3; k++) {
+                double m = fabs(s.bb_lo[k]) > fabs(s.bb_hi[k]) ? fabs(s.bb_lo[k]) : fabs(s.bb_hi[k]);
+                c2 += m * m;
+            }
+            s.reach = sqrt(c2);
+        }
+    }
     vp_result r = vp_particles_create(ctx, 0, &s.p);
     if (r != VP_OK) return r;
+    s.p->has_orient = s.poly != NULL;
     if (reserve(s.p, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
     }
-    s.p->shape = VP_SHAPE_SPHERE;
+    s.p->shape = params->shape;
     s.p->group_count = (unsigned)params->npasses;
     for (size_t i = 0; i < params->npasses; i++) {
         if (params->passes[i].name[0])

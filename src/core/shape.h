@@ -40,4 +40,15 @@ const vp_polyhedron *vp_shape_polyhedron(vp_shape s);
  * the best axis. Double precision. */
 double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
                           const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]);
+
+/* Largest signed container distance (negative inside) over the surface of
+ * the polyhedron placed at (scale, q, t) (q NULL: identity): its vertices
+ * and, when the container is a level set of voxel size h, points of every
+ * face (edges included) on a grid no coarser than h; analytic containers
+ * are convex, so there the vertices decide. Returns as soon as the running
+ * maximum exceeds stop (then the value is only a lower bound). The packers
+ * and vdbpack check share this test; <= 0 means wholly inside. */
+struct vp_container;
+double vp_poly_wall_distance(const struct vp_container *c, const vp_polyhedron *poly,
+                             double scale, const double q[4], const double t[3], double stop);
 #endif

@@ -1,0 +1,65 @@
+/* The wall test of a placed polyhedron, shared by the packers and the
+ * checker so that both decide "inside" the same way; see shape.h and
+ * docs/rsa.md ("Polyhedra"). */
+#include "core/container.h"
+#include "core/geom.h"
+#include "core/shape.h"
+
+#include <math.h>
+
+typedef struct wall_acc {
+    const vp_container *c;
+    double worst, stop;
+} wall_acc;
+
+/* 1 once the worst distance is above stop (the caller can stop). */
+static int sample(wall_acc *a, const double x[3]) {
+    double d = vp_container_distance(a->c, x);
+    if (!(d <= a->worst)) a->worst = isnan(d) ? HUGE_VAL : d;
+    return a->worst > a->stop;
+}
+
+static double dist3(const double a[3], const double b[3]) {
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return vp_norm3(d);
+}
+
+double vp_poly_wall_distance(const vp_container *c, const vp_polyhedron *poly, double scale,
+                             const double q[4], const double t[3], double stop) {
+    static const double qid[4] = {0, 0, 0, 1};
+    if (!q) q = qid;
+    wall_acc a = {c, -HUGE_VAL, stop};
+    double w[VP_POLY_MAX_VERTS][3];
+    for (int k = 0; k < poly->nverts; k++) {
+        double v[3] = {poly->verts[k][0] * scale, poly->verts[k][1] * scale,
+                       poly->verts[k][2] * scale};
+        vp_quat_rotate(q, v, w[k]);
+        for (int m = 0; m < 3; m++) w[k][m] += t[m];
+        if (sample(&a, w[k])) return a.worst;
+    }
+    double h = c->info.voxel_size;
+    if (!(h > 0)) return a.worst; /* analytic containers are convex: vertices decide */
+    /* Edges and faces, at most h apart: each face is a fan of triangles
+     * (v0, vi, vi+1), sampled on a barycentric grid of n steps per side. */
+    for (int f = 0; f < poly->nfaces; f++) {
+        const int *fv = poly->faces[f];
+        for (int i = 1; i + 1 < poly->face_size[f]; i++) {
+            const double *p0 = w[fv[0]], *p1 = w[fv[i]], *p2 = w[fv[i + 1]];
+            double L = dist3(p0, p1);
+            double L2 = dist3(p1, p2), L3 = dist3(p0, p2);
+            if (L2 > L) L = L2;
+            if (L3 > L) L = L3;
+            int n = (int)ceil(L / h);
+            if (n < 2) continue; /* the vertices are already h apart */
+            if (n > 4096) n = 4096;
+            for (int u = 0; u <= n; u++)
+                for (int v = 0; u + v <= n; v++) {
+                    if ((u == 0 && v == 0) || u == n || v == n) continue; /* the corners */
+                    double b1 = (double)u / n, b2 = (double)v / n, b0 = 1.0 - b1 - b2, x[3];
+                    for (int m = 0; m < 3; m++) x[m] = b0 * p0[m] + b1 * p1[m] + b2 * p2[m];
+                    if (sample(&a, x)) return a.worst;
+                }
+        }
+    }
+    return a.worst;
+}
