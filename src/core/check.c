@@ -32,13 +32,7 @@ typedef struct chk {
 } chk;
 
 static void orient_of(const vp_particles *p, size_t i, double q[4]) {
-    const float *f = p->orients ? p->orients + 4 * i : p->uniform_orient;
-    for (int k = 0; k < 4; k++) q[k] = f[k];
-    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (n > 0)
-        for (int k = 0; k < 4; k++) q[k] /= n;
-    else
-        q[0] = q[1] = q[2] = 0, q[3] = 1;
+    vp_quat_from_float(p->orients ? p->orients + 4 * i : p->uniform_orient, q);
 }
 
 static int pair_visit(void *user, uint32_t j) {

@@ -39,6 +39,16 @@ static inline void vp_quat_mul(const double a[4], const double b[4], double out[
     double w = a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2];
     out[0] = x; out[1] = y; out[2] = z; out[3] = w;
 }
+/* A stored float quaternion as the packers test it and vdbpack check reads
+ * it back: widened to double and renormalised (identity if zero). */
+static inline void vp_quat_from_float(const float f[4], double q[4]) {
+    for (int k = 0; k < 4; k++) q[k] = f[k];
+    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (n > 0)
+        for (int k = 0; k < 4; k++) q[k] /= n;
+    else
+        q[0] = q[1] = q[2] = 0, q[3] = 1;
+}
 /* Rotation matrix (row-major, out[i][j]) of unit quaternion q. */
 static inline void vp_quat_to_matrix(const double q[4], double m[3][3]) {
     double x = q[0], y = q[1], z = q[2], w = q[3];

@@ -24,6 +24,16 @@ static double dist3(const double a[3], const double b[3]) {
     return vp_norm3(d);
 }
 
+/* The n - 1 points strictly between p and q, n steps apart. */
+static int segment(wall_acc *a, const double p[3], const double q[3], int n) {
+    for (int k = 1; k < n; k++) {
+        double t = (double)k / n, x[3];
+        for (int m = 0; m < 3; m++) x[m] = (1.0 - t) * p[m] + t * q[m];
+        if (sample(a, x)) return 1;
+    }
+    return 0;
+}
+
 double vp_poly_wall_distance(const vp_container *c, const vp_polyhedron *poly, double scale,
                              const double q[4], const double t[3], double stop) {
     static const double qid[4] = {0, 0, 0, 1};
@@ -40,21 +50,32 @@ double vp_poly_wall_distance(const vp_container *c, const vp_polyhedron *poly, d
     double h = c->info.voxel_size;
     if (!(h > 0)) return a.worst; /* analytic containers are convex: vertices decide */
     /* Edges and faces, at most h apart: each face is a fan of triangles
-     * (v0, vi, vi+1), sampled on a barycentric grid of n steps per side. */
+     * (v0, vi, vi+1) on a barycentric grid of n steps per side, n from the
+     * longest side of any of them (a diagonal for squares and pentagons).
+     * Each point once: the edges, the fans' diagonals, then the triangles'
+     * interiors. */
+    double L = 0.0;
+    for (int f = 0; f < poly->nfaces; f++)
+        for (int i = 1; i < poly->face_size[f]; i++) {
+            const int *fv = poly->faces[f];
+            double a0 = dist3(w[fv[0]], w[fv[i]]), a1 = dist3(w[fv[i - 1]], w[fv[i]]);
+            if (a0 > L) L = a0;
+            if (a1 > L) L = a1;
+        }
+    int n = (int)ceil(L / h);
+    if (n < 2) return a.worst; /* the vertices are already h apart */
+    if (n > 4096) n = 4096;
+    for (int e = 0; e < poly->nedges; e++)
+        if (segment(&a, w[poly->edges[e][0]], w[poly->edges[e][1]], n)) return a.worst;
+    for (int f = 0; f < poly->nfaces; f++)
+        for (int i = 2; i + 1 < poly->face_size[f]; i++)
+            if (segment(&a, w[poly->faces[f][0]], w[poly->faces[f][i]], n)) return a.worst;
     for (int f = 0; f < poly->nfaces; f++) {
         const int *fv = poly->faces[f];
         for (int i = 1; i + 1 < poly->face_size[f]; i++) {
             const double *p0 = w[fv[0]], *p1 = w[fv[i]], *p2 = w[fv[i + 1]];
-            double L = dist3(p0, p1);
-            double L2 = dist3(p1, p2), L3 = dist3(p0, p2);
-            if (L2 > L) L = L2;
-            if (L3 > L) L = L3;
-            int n = (int)ceil(L / h);
-            if (n < 2) continue; /* the vertices are already h apart */
-            if (n > 4096) n = 4096;
-            for (int u = 0; u <= n; u++)
-                for (int v = 0; u + v <= n; v++) {
-                    if ((u == 0 && v == 0) || u == n || v == n) continue; /* the corners */
+            for (int u = 1; u < n; u++)
+                for (int v = 1; u + v < n; v++) {
                     double b1 = (double)u / n, b2 = (double)v / n, b0 = 1.0 - b1 - b2, x[3];
                     for (int m = 0; m < 3; m++) x[m] = b0 * p0[m] + b1 * p1[m] + b2 * p2[m];
                     if (sample(&a, x)) return a.worst;

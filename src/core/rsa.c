@@ -19,6 +19,7 @@
  * order on one thread, so the result does not depend on the thread count. */
 #include "core/container.h"
 #include "core/context.h"
+#include "core/geom.h"
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sgrid.h"
@@ -162,12 +163,6 @@ static double clearance(const rsa *s, const double x[3], double reach, double st
  * A solid's orientation is tested as written: the float quaternion,
  * renormalised in double (as vdbpack check reads it back). */
 
-static void quat_of(const float f[4], double q[4]) {
-    for (int k = 0; k < 4; k++) q[k] = f[k];
-    double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    for (int k = 0; k < 4; k++) q[k] /= n;
-}
-
 typedef struct solid_query {
     const rsa *s;
     const double *x; /* the candidate: centre, orientation, radius */
@@ -197,7 +192,7 @@ static int solid_visit(void *user, uint32_t j) {
         return 1;
     }
     double qj[4];
-    quat_of(s->p->orients + 4 * (size_t)j, qj);
+    vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     return !(vp_poly_separation(s->poly, w->r, w->q, w->x, s->poly, rj, qj, c) >= 0.0);
 }
 
@@ -551,7 +546,7 @@ static void make_darts(void *user, size_t ci) {
                 vp_rng_quat(&st, q);
                 for (int m = 0; m < 4; m++) f[m] = (float)q[m];
             }
-            quat_of(f, t->q);
+            vp_quat_from_float(f, t->q);
             continue;
         }
         if (t->d <= thr_ok(s, s->rmin) && s->n0)
@@ -584,7 +579,7 @@ static double grow_one(const rsa *s, size_t i, double diag) {
 static double grow_solid(const rsa *s, size_t i, double diag) {
     const double *x = s->p->positions + 3 * i;
     double q[4];
-    quat_of(s->p->orients + 4 * i, q);
+    vp_quat_from_float(s->p->orients + 4 * i, q);
     double d = vp_container_distance(s->c, x);
     double lo = s->p->radii[i], hi = lo;
     for (;;) {
@@ -753,10 +748,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             int good;
             if (s->poly) {
                 good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
-            } else {
-                good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r;
-            }
-            if (good && !s->poly && s->p->count > s->n0) {
+            } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
+                       s->p->count > s->n0) { /* spheres placed in this batch */
                 size_t nnew = s->p->count - s->n0;
                 if (nnew <= 24) {
                     for (size_t i = s->n0; i < s->p->count && good; i++) {
