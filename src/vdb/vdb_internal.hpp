@@ -45,10 +45,19 @@ void clear(char *err, size_t errlen);
 // message naming path (may be NULL).
 int from_exception(const char *path, Op op, char *err, size_t errlen);
 
-// Runs f() (returning an int code) and turns any exception into a code.
+// > 0 while this thread is inside guard(): OpenVDB's failed assertions
+// throw instead of aborting (vdb_assert.cpp).
+extern thread_local int guard_depth;
+
+// Runs f() (returning an int code) and turns any exception, and any failed
+// OpenVDB assertion on this thread, into a code.
 template <typename F>
 int guard(const char *path, Op op, char *err, size_t errlen, F &&f) noexcept
 {
+    struct depth {
+        depth() { ++guard_depth; }
+        ~depth() { --guard_depth; }
+    } in_guard;
     try {
         return f();
     } catch (...) {

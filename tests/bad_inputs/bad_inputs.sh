@@ -323,6 +323,12 @@ expect_error "file-size limit, --save-container" "c\.vdb.*(too large|writing fai
 expect_error "check: missing packing" "nothere\.vdb" "" -- check ../nothere.vdb --container sphere:1
 expect_error "check: not a points file" "cube_ls\.vdb" "" -- check ../cube_ls.vdb --container sphere:1
 expect_error "info: truncated vdb" "truncated\.vdb" "" -- info ../truncated.vdb
+# a points grid whose paged attribute overruns its page: OpenVDB's reader
+# asserts (Debian builds it with assertions on); found by fuzz_vdb
+paged="$VP_SRC/tests/data/points_paged_assert.vdb"
+expect_error "info: points page overrun (OpenVDB assertion)" "points_paged_assert\.vdb.*not a readable" "" -- info "$paged"
+expect_error "check: points page overrun (OpenVDB assertion)" "points_paged_assert\.vdb.*not a readable" "" -- check "$paged" --container sphere:1
+expect_error "pack: points page overrun as container (OpenVDB assertion)" "points_paged_assert\.vdb" "" -- pack "$paged" --radius 0.1 -o out.vdb
 
 # a failed pack must not clobber an existing output file
 echo "--- existing output survives a failure"
