@@ -148,4 +148,62 @@ PY
 grep -q 'Attribute "orient" on grid "points" exists of type "quats"' orient.txt ||
   die "solids: vdb_ax does not see orient as quats: $(cat orient.txt)"
 echo "  ok: vdbpack check clean; orient stored as quats"
+# mesh shapes (issue 5): a concave shipped mesh (its centroid lies in the
+# hole), the unit shape written for instancing, check with --shape
+shp="$VP_SRC/vdb_samples/torus.obj"
+echo "=== mesh shapes: torus.obj particles in a box"
+"$VDBPACK" pack box:1,1,1 --method rsa --shape "$shp" --radius 0.1 --count 100 \
+  -o tori.vdb --shape-out unit_torus.obj --json >tori.json 2>tori.err || die "tori: $(cat tori.err)"
+"$PY" - tori.json unit_torus.obj "$shp" <<'PY' || exit 1
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["shape"] == "mesh" and d["shape_file"] == "torus.obj" and d["orient"] == "random", d
+assert d["passes"][0]["placed"] == 100, d["passes"][0]
+# the unit shape: as many vertices and faces as the source, bounding radius 1
+def load(path):
+    v, f = [], 0
+    for line in open(path):
+        t = line.split()
+        if t and t[0] == "v": v.append(tuple(map(float, t[1:4])))
+        if t and t[0] == "f": f += 1
+    return v, f
+uv, uf = load(sys.argv[2])
+sv, sf = load(sys.argv[3])
+r = max(math.sqrt(x * x + y * y + z * z) for x, y, z in uv)
+assert abs(r - 1) < 1e-12, r
+assert len(uv) == len(sv) and uf >= sf, (len(uv), len(sv), uf, sf)
+print("  ok: 100 tori, fraction %.4f; unit shape %d vertices, radius %.15f" % (d["packing_fraction"], len(uv), r))
+PY
+"$VDBPACK" check tori.vdb --container box:1,1,1 --shape "$shp" --json >tori.check 2>&1 ||
+  die "tori: vdbpack check found a violation: $(cat tori.check)"
+[ "$(jget tori.check overlapping_pairs)" = 0 ] && [ "$(jget tori.check outside)" = 0 ] &&
+  [ "$(jget tori.check shape)" = mesh ] || die "tori: check: $(cat tori.check)"
+# a check that could fail: the same file against a smaller box
+set +e; "$VDBPACK" check tori.vdb --container box:0.8,0.8,0.8 --shape "$shp" -q 2>/dev/null; st=$?; set -e
+[ "$st" = 3 ] || die "tori: check against a smaller box exited $st, expected 3"
+set +e; "$VDBPACK" check tori.vdb --container box:1,1,1 >chk.out 2>chk.err; st=$?; set -e
+[ "$st" = 2 ] && [ "$(wc -l <chk.err)" = 1 ] && grep -q "torus.obj" chk.err ||
+  die "tori: check without --shape: exit $st: $(cat chk.err)"
+"${AX[@]}" -i tori.vdb -s 'vec4f q = vec4f@orient; if (q[0] > 2.0f) deletepoint();' >orient.txt 2>&1 || true
+grep -q 'Attribute "orient" on grid "points" exists of type "quats"' orient.txt ||
+  die "tori: vdb_ax does not see orient as quats: $(cat orient.txt)"
+echo "  ok: check clean with --shape, refuses without it ($(cat chk.err))"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >open_shape.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >flat_shape.obj
+bad 2 "unknown --shape" box:1,1,1 --method rsa --shape cubes --radius 0.1 --count 10
+bad 1 "not closed" box:1,1,1 --method rsa --shape open_shape.obj --radius 0.1 --count 10
+bad 1 "no volume" box:1,1,1 --method rsa --shape flat_shape.obj --radius 0.1 --count 10
+bad 1 "nothere.obj" box:1,1,1 --method rsa --shape nothere.obj --radius 0.1 --count 10
+bad 2 "method rsa" box:1,1,1 --method lattice --shape "$shp" --radius 0.1
+bad 2 "fixed" box:1,1,1 --method rsa --shape "$shp" --overlap bbox --orient random --radius 0.1 --count 10
+if [ -f "$VP_SHARED/spot.obj" ]; then
+  echo "=== mesh shapes: grown cows (spot.obj) in peanut.obj"
+  "$VDBPACK" pack "$mesh" --method rsa --shape "$VP_SHARED/spot.obj" --radius 0.12 --count 120 --grow \
+    -o cows.vdb --json >cows.json 2>cows.err || die "cows: $(cat cows.err)"
+  "$VDBPACK" check cows.vdb --container "$mesh" --shape "$VP_SHARED/spot.obj" --json >cows.check 2>&1 ||
+    die "cows: vdbpack check found a violation: $(cat cows.check)"
+  echo "  ok: $(jget cows.json count) cows grown, fraction $(jget cows.json packing_fraction), check clean"
+else
+  echo "=== skipped: ../shared/containers/spot.obj not present"
+fi
 echo "PASS: sh_random"

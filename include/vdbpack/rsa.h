@@ -37,8 +37,10 @@ typedef enum vp_overlap_mode {
 
 typedef struct vp_rsa_params {
     vp_fit fit;
-    vp_shape shape;            /* VP_SHAPE_SPHERE (default) or a platonic solid;
-                                  radii are bounding-sphere radii */
+    vp_shape shape;            /* VP_SHAPE_SPHERE (default), a platonic solid or
+                                  VP_SHAPE_MESH; radii are bounding-sphere radii */
+    const vp_mesh_shape *mesh; /* the shape for VP_SHAPE_MESH; not owned, must
+                                  outlive the particle set (which points to it) */
     vp_orient_mode orient;     /* solids only; default random */
     vp_overlap_mode overlap;   /* solids only; default exact */
     const vp_rsa_pass *passes; /* not owned; npasses in 1..VP_MAX_GROUPS */

@@ -2,6 +2,7 @@
  * level sets read from .vdb files. Both end up as a vp_container whose
  * distance is a trilinear sample of the level set. */
 #include "api/atomic.h"
+#include "api/probe.h"
 #include "core/container.h"
 #include "core/context.h"
 #include "mesh/mesh.h"
@@ -223,8 +224,23 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
     return finish_levelset(ctx, path, ls, &info, out);
 }
 
+typedef struct probe_ls_arg {
+    const char *path, *grid;
+} probe_ls_arg;
+
+static int probe_levelset(const void *arg, char *err, size_t errlen) {
+    const probe_ls_arg *a = arg;
+    vpv_levelset *ls = NULL;
+    int rc = vpv_levelset_read(a->path, a->grid, &ls, err, errlen);
+    vpv_levelset_destroy(ls);
+    return rc;
+}
+
 static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_params *pp,
                           vp_container **out) {
+    probe_ls_arg pa = {path, pp->grid_name};
+    vp_result pr = vp_probe_read(ctx, path, probe_levelset, &pa);
+    if (pr != VP_OK) return pr;
     char err[1024];
     vpv_levelset *ls = NULL;
     int rc = vpv_levelset_read(path, pp->grid_name, &ls, err, sizeof err);

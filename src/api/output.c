@@ -2,7 +2,9 @@
  * descriptions and the unit particle shape as OBJ. Every file is written to
  * a temporary path and renamed, so no partial file is ever left. */
 #include "api/atomic.h"
+#include "api/probe.h"
 #include "core/context.h"
+#include "core/mesh_shape.h"
 #include "core/shape.h"
 #include "vdb/vdb_bridge.h"
 
@@ -39,10 +41,26 @@ vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles 
     return vp_atomic_commit(ctx, &a);
 }
 
+static int probe_points(const void *arg, char *err, size_t errlen) {
+    vp_particles *p = NULL;
+    int rc = vpv_points_read(arg, &p, err, errlen);
+    vp_particles_destroy(p);
+    return rc;
+}
+
+static int probe_describe(const void *arg, char *err, size_t errlen) {
+    char *text = NULL;
+    int rc = vpv_describe_file(arg, 0, &text, err, errlen);
+    free(text);
+    return rc;
+}
+
 vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out) {
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "out is NULL");
     *out = NULL;
     vpv_init();
+    vp_result pr = vp_probe_read(ctx, path, probe_points, path);
+    if (pr != VP_OK) return pr;
     char err[1024];
     int rc = vpv_points_read(path, out, err, sizeof err);
     return rc == VP_OK ? VP_OK : vp_fail(ctx, (vp_result)rc, "%s", err);
@@ -52,6 +70,8 @@ vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **o
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "out is NULL");
     *out = NULL;
     vpv_init();
+    vp_result pr = vp_probe_read(ctx, path, probe_describe, path);
+    if (pr != VP_OK) return pr;
     char err[1024];
     int rc = vpv_describe_file(path, json, out, err, sizeof err);
     return rc == VP_OK ? VP_OK : vp_fail(ctx, (vp_result)rc, "%s", err);
@@ -89,6 +109,37 @@ static int write_sphere_obj(FILE *f) {
         base += (n + 1) * (n + 2) / 2;
     }
     return 0;
+}
+
+vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const char *path) {
+    if (!s) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no mesh shape");
+    vp_atomic a;
+    vp_result r = vp_atomic_begin(ctx, path, &a);
+    if (r != VP_OK) return r;
+    FILE *f = fopen(a.tmp_path, "w");
+    if (!f) {
+        int e = errno;
+        vp_atomic_abort(&a);
+        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write (%s)", path, strerror(e));
+    }
+    fprintf(f, "# vdbpack %s unit shape from %s: bounding-sphere radius 1 about the centroid\n"
+               "# of its volume, which is at the origin. Instance it at each point scaled by\n"
+               "# pscale and rotated by orient.\n",
+            VP_VERSION_STRING, s->name);
+    fprintf(f, "o %s\n", s->name);
+    for (size_t v = 0; v < s->nverts; v++)
+        fprintf(f, "v %.17g %.17g %.17g\n", s->verts[3 * v], s->verts[3 * v + 1],
+                s->verts[3 * v + 2]);
+    for (size_t t = 0; t < s->ntris; t++)
+        fprintf(f, "f %u %u %u\n", s->tris[3 * t] + 1, s->tris[3 * t + 1] + 1,
+                s->tris[3 * t + 2] + 1);
+    int bad = ferror(f) != 0;
+    if (fclose(f) != 0) bad = 1;
+    if (bad) {
+        vp_atomic_abort(&a);
+        return vp_fail(ctx, VP_ERR_IO, "%s: writing failed", path);
+    }
+    return vp_atomic_commit(ctx, &a);
 }
 
 vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path) {

@@ -32,6 +32,8 @@ const char *VP_CHECK_HELP =
     "  --voxel-size V          voxel size for a mesh container (default: the\n"
     "                          file's voxel_size metadata, else automatic)\n"
     "  --grid NAME             level-set grid of a .vdb container\n"
+    "  --shape FILE            the particle mesh, for packings of a mesh shape\n"
+    "                          (the one given to pack --shape; required for them)\n"
     "  --allow-open            voxelize an open mesh anyway\n"
     "  --json                  print the report as JSON on stdout\n"
     "  -q, --quiet             print nothing but errors\n"
@@ -51,7 +53,7 @@ static const char *meta_value(const char *json, const char *key) {
 }
 
 int vp_cli_check(int argc, char **argv) {
-    const char *file = NULL, *cont = NULL, *grid = NULL;
+    const char *file = NULL, *cont = NULL, *grid = NULL, *shape_file = NULL;
     int json = 0, quiet = 0, allow_open = 0, fit_set = 0;
     double voxel = 0;
     vp_check_params cp;
@@ -91,6 +93,9 @@ int vp_cli_check(int argc, char **argv) {
         } else if (!strcmp(a, "--grid")) {
             NEED();
             grid = v;
+        } else if (!strcmp(a, "--shape")) {
+            NEED();
+            shape_file = v;
         } else if (!strcmp(a, "--allow-open")) {
             allow_open = 1;
         } else if (!strcmp(a, "--json")) {
@@ -114,6 +119,7 @@ int vp_cli_check(int argc, char **argv) {
     int status = 1;
     vp_particles *p = NULL;
     vp_container *c = NULL;
+    vp_mesh_shape *mesh = NULL;
     char *desc = NULL;
     if (vp_read_points(ctx, file, &p) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
@@ -128,6 +134,27 @@ int vp_cli_check(int argc, char **argv) {
             double x = strtod(vs, NULL);
             if (x > 0 && isfinite(x)) voxel = x;
         }
+    }
+    if (p->shape == VP_SHAPE_MESH && !shape_file) {
+        const char *sf = desc ? meta_value(desc, "shape_file") : NULL;
+        char name[256] = "";
+        if (sf && *sf == '"') sscanf(sf + 1, "%255[^\"]", name);
+        status = vp_cli_die(2, "check: %s holds particles of a mesh shape%s%s%s: give the mesh "
+                               "with --shape FILE", file, name[0] ? " (" : "", name,
+                            name[0] ? ")" : "");
+        goto done;
+    }
+    if (shape_file && p->shape != VP_SHAPE_MESH) {
+        status = vp_cli_die(2, "check: --shape is for packings of a mesh shape; %s holds %ss",
+                            file, vp_shape_name(p->shape));
+        goto done;
+    }
+    if (shape_file) {
+        if (vp_mesh_shape_load(ctx, shape_file, &mesh) != VP_OK) {
+            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+            goto done;
+        }
+        p->mesh = mesh;
     }
     double rmax = p->uniform_radius;
     if (p->radii)
@@ -200,6 +227,7 @@ int vp_cli_check(int argc, char **argv) {
 done:
     free(desc);
     vp_particles_destroy(p);
+    vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
     vp_context_destroy(ctx);
     return status;

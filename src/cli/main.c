@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "mesh/isolate.h"
 
 static const char *MAIN_HELP =
     "vdbpack " VP_VERSION_STRING ": fill a closed container with non-overlapping particles\n"
@@ -64,7 +65,9 @@ static const char *PACK_HELP =
     "  --radius SIZE --count N|max   a single pass, instead of --pass\n"
     "  --retries K             failed tries in a row that end a pass (default 5000)\n"
     "  --grow                  with --radius/--count: grow the pass's particles\n"
-    "  --shape NAME            as for lattice: spheres or a platonic solid\n"
+    "  --shape NAME|FILE       as for lattice, or any closed mesh file (OBJ, PLY,\n"
+    "                          STL, glTF, ...; concave too), centred on the centroid\n"
+    "                          of its volume and scaled to bounding radius 1\n"
     "  --orient random|fixed   solids: uniform random rotations (default) or all in\n"
     "                          the canonical orientation\n"
     "  --overlap exact|bbox    solids: exact separating-axis test (default), or the\n"
@@ -96,7 +99,8 @@ static const char *PACK_HELP =
     "                          fixed16 for lattice, full for rsa and relax, whose\n"
     "                          particles touch)\n"
     "  --save-container FILE   also write the container level set as its own .vdb\n"
-    "  --shape-out FILE        also write the unit particle shape as OBJ (instancing)\n"
+    "  --shape-out FILE        also write the unit particle shape as OBJ (instancing;\n"
+    "                          for a mesh shape, the mesh as normalised)\n"
     "\n"
     "Run:\n"
     "  --threads N             worker threads (default: $VDBPACK_THREADS, else all\n"
@@ -157,6 +161,11 @@ int main(int argc, char **argv) {
     const char *cmd = argv[1];
     if (!strcmp(cmd, "--version") || !strcmp(cmd, "-V")) {
         printf("vdbpack %s\n", VP_VERSION_STRING);
+        /* tests read this line: sanitizer builds cannot contain a reader's
+         * crash in a child process */
+        printf("file readers (Assimp, OpenVDB): %s\n",
+               vp_mesh_import_is_isolated() ? "checked in a child process first"
+                                            : "in-process (sanitizer or fuzz build)");
         return 0;
     }
     if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {

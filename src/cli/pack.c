@@ -16,6 +16,8 @@ typedef struct pack_opts {
     const char *output;
     const char *method;
     vp_shape shape;
+    const char *shape_file; /* --shape FILE: a mesh (shape == VP_SHAPE_MESH) */
+    const vp_mesh_shape *mesh; /* loaded from shape_file before packing */
     int orient;             /* -1 unset, else vp_orient_mode */
     int overlap;            /* -1 unset, else vp_overlap_mode */
     vp_lattice lattice;
@@ -102,6 +104,9 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax");
     if (!rsa && o->count_max)
         return vp_cli_die(2, "pack: --count max goes with --method rsa");
+    if (o->shape == VP_SHAPE_MESH && !rsa)
+        return vp_cli_die(2, "pack: a mesh --shape (%s) packs with --method rsa in this version",
+                          o->shape_file);
     if (relax && o->shape != VP_SHAPE_SPHERE)
         return vp_cli_die(2, "pack: --method relax packs spheres in this version (--shape %s "
                              "needs --method lattice or rsa)", vp_shape_name(o->shape));
@@ -200,9 +205,15 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             o->method = v;
         } else if (!strcmp(a, "--shape")) {
             VALUE();
-            if (vp_shape_parse(v, &o->shape) != 0)
-                return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, tetrahedron, cube, "
-                                     "octahedron, dodecahedron, icosahedron)", v);
+            if (vp_shape_parse(v, &o->shape) != 0) {
+                /* not a built-in name: a mesh file, when it looks like one */
+                if (!strchr(v, '.') && !strchr(v, '/'))
+                    return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, tetrahedron, cube, "
+                                         "octahedron, dodecahedron, icosahedron, or a closed "
+                                         "mesh file such as shape.obj)", v);
+                o->shape = VP_SHAPE_MESH;
+                o->shape_file = v;
+            }
         } else if (!strcmp(a, "--orient")) {
             VALUE();
             if (!strcmp(v, "random")) o->orient = VP_ORIENT_RANDOM;
@@ -422,6 +433,7 @@ static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o
         vp_rsa_params_init(&rp);
         rp.fit = o->fit;
         rp.shape = o->shape;
+        rp.mesh = o->mesh;
         rp.orient = (vp_orient_mode)o->orient;
         rp.overlap = (vp_overlap_mode)o->overlap;
         rp.passes = o->passes;
@@ -485,6 +497,11 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
            ci->mesh_triangles, ci->boundary_edges, ci->nonmanifold_edges);
     printf(",\"method\":\"%s\",\"shape\":\"%s\",\"fit\":\"%s\"", o->method,
            vp_shape_name(o->shape), o->fit == VP_FIT_INSIDE ? "inside" : "center");
+    if (o->mesh) {
+        printf(",\"shape_file\":");
+        vp_cli_json_string(stdout, vp_mesh_shape_name(o->mesh));
+        printf(",\"shape_triangles\":%zu", vp_mesh_shape_triangles(o->mesh));
+    }
     printf(",\"count\":%zu,\"requested_count\":%llu,\"packing_fraction\":%.17g", p->count,
            (unsigned long long)o->count, fraction);
     printf(",\"max_radius\":%.17g", rr->max_radius);
@@ -535,8 +552,9 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                vp_shape_name(o->shape), p->count == 1 ? "" : "s", rr->lat.radius, lattice_label(o),
                o->container);
     else
-        printf("vdbpack: packed %zu %s%s%s by %s in %s\n", p->count, vp_shape_name(o->shape),
-               p->count == 1 ? "" : "s",
+        printf("vdbpack: packed %zu %s%s%s%s by %s in %s\n", p->count,
+               o->mesh ? vp_mesh_shape_name(o->mesh) : vp_shape_name(o->shape),
+               o->mesh ? " shape" : "", p->count == 1 ? "" : "s",
                o->shape == VP_SHAPE_SPHERE ? ""
                : o->overlap == VP_OVERLAP_BBOX ? " (fixed orientation, bounding-box overlap)"
                : o->orient == VP_ORIENT_FIXED  ? " (fixed orientation, exact overlap)"
@@ -636,9 +654,19 @@ int vp_cli_pack(int argc, char **argv) {
     int status = 1;
     vp_container *c = NULL;
     vp_particles *p = NULL;
+    vp_mesh_shape *mesh = NULL;
     const char *created[2] = {NULL, NULL};
     int ncreated = 0;
 
+    /* the particle shape first: a bad shape file fails before a long
+     * voxelization */
+    if (o.shape == VP_SHAPE_MESH) {
+        if (vp_mesh_shape_load(ctx, o.shape_file, &mesh) != VP_OK) {
+            status = lib_error(ctx);
+            goto done;
+        }
+        o.mesh = mesh;
+    }
     int an = vp_cli_analytic_container(ctx, o.container, &c);
     if (an < 0) {
         status = malformed_analytic(o.container);
@@ -698,7 +726,8 @@ int vp_cli_pack(int argc, char **argv) {
         vp_cli_signals_track_output(o.save_container);
     }
     if (o.shape_out) {
-        if (vp_shape_write_obj(ctx, o.shape, o.shape_out) != VP_OK) {
+        if ((o.mesh ? vp_mesh_shape_write_obj(ctx, o.mesh, o.shape_out)
+                    : vp_shape_write_obj(ctx, o.shape, o.shape_out)) != VP_OK) {
             status = lib_error(ctx);
             goto done;
         }
@@ -725,6 +754,7 @@ int vp_cli_pack(int argc, char **argv) {
         {"voxel_size", VP_META_DOUBLE, NULL, 0, ci.voxel_size},
     };
     size_t nmeta = 12;
+    if (o.mesh) meta[nmeta++] = (vp_meta){"shape_file", VP_META_STRING, vp_mesh_shape_name(o.mesh), 0, 0};
     if (!strcmp(o.method, "lattice")) {
         meta[nmeta++] = (vp_meta){"lattice", VP_META_STRING, lattice_label(&o), 0, 0};
         meta[nmeta++] = (vp_meta){"radius", VP_META_DOUBLE, NULL, 0, rr.lat.radius};
@@ -773,6 +803,7 @@ done:
     for (int i = 0; i < ncreated; i++) unlink(created[i]);
     if (prog.shown && status) fprintf(stderr, "\r%*s\r", 64, "");
     vp_particles_destroy(p);
+    vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
     vp_context_destroy(ctx);
     return status;

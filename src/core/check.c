@@ -7,6 +7,7 @@
 #include "core/context.h"
 #include "core/geom.h"
 #include "core/sgrid.h"
+#include "core/mesh_shape.h"
 #include "core/shape.h"
 
 #include <math.h>
@@ -24,6 +25,7 @@ void vp_check_params_init(vp_check_params *p) {
 typedef struct chk {
     const vp_particles *p;
     const vp_polyhedron *poly;
+    const vp_mesh_shape *mesh;
     const vp_check_params *prm;
     double *r;          /* radii (double) */
     double slack;       /* 2 x position error (world) */
@@ -45,7 +47,22 @@ static int pair_visit(void *user, uint32_t j) {
     double reach = e * (1.0 + q->prm->contact_tolerance) + q->slack;
     if (d2 >= reach * reach) return 0;
     double gap, scale;
-    if (!q->poly) {
+    if (q->mesh) {
+        /* no distance between meshes: the penetration depth when they
+         * overlap; a contact when copies larger by the contact tolerance
+         * would overlap */
+        double qa[4], qb[4], depth = 0.0;
+        orient_of(q->p, q->i, qa);
+        orient_of(q->p, j, qb);
+        scale = ri < rj ? ri : rj;
+        double g = 1.0 + q->prm->contact_tolerance;
+        if (vp_mesh_shape_overlap(q->mesh, ri, qa, xi, rj, qb, xj, &depth))
+            gap = -depth;
+        else if (vp_mesh_shape_overlap(q->mesh, ri * g, qa, xi, rj * g, qb, xj, NULL))
+            gap = 0.0;
+        else
+            gap = HUGE_VAL;
+    } else if (!q->poly) {
         gap = sqrt(d2) - e;
         scale = e;
     } else {
@@ -84,6 +101,10 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     rep.count = p->count;
     rep.container_volume = c->info.volume;
     const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
+    const vp_mesh_shape *mesh = p->shape == VP_SHAPE_MESH ? p->mesh : NULL;
+    if (p->shape == VP_SHAPE_MESH && !mesh)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "check: the particles are of a mesh shape: the mesh is needed");
     size_t n = p->count;
     if (p->count >= UINT32_MAX - 1)
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: more than 2^32 particles");
@@ -125,7 +146,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
                 return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory for the grid");
             }
         }
-        chk q = {p, poly, params, r, 2.0 * e, 0, &rep};
+        chk q = {p, poly, mesh, params, r, 2.0 * e, 0, &rep};
         for (size_t i = 0; i < n; i++) {
             q.i = i;
             double reach = r[i] * (1.0 + params->contact_tolerance) + 2.0 * e +
@@ -150,6 +171,11 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         double v;
         if (params->fit == VP_FIT_CENTER) {
             v = vp_container_distance(c, x);
+        } else if (mesh) {
+            /* the packer's own shortcut: a bounding sphere inside passes */
+            double q[4], d = vp_container_distance(c, x);
+            orient_of(p, i, q);
+            v = d + r[i] <= 0 ? d + r[i] : vp_mesh_shape_wall_distance(c, mesh, r[i], q, x, HUGE_VAL);
         } else if (!poly) {
             v = vp_container_distance(c, x) + r[i];
         } else {

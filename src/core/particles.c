@@ -37,7 +37,9 @@ void vp_particles_destroy(vp_particles *p) {
 
 double vp_particles_volume(const vp_particles *p) {
     if (!p) return 0.0;
-    double unit = vp_shape_unit_volume(p->shape), sum = 0.0;
+    double unit = p->shape == VP_SHAPE_MESH ? vp_mesh_shape_volume(p->mesh)
+                                            : vp_shape_unit_volume(p->shape),
+           sum = 0.0;
     if (!p->radii) {
         double r = p->uniform_radius;
         return unit * r * r * r * (double)p->count;

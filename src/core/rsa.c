@@ -23,6 +23,7 @@
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sgrid.h"
+#include "core/mesh_shape.h"
 #include "core/shape.h"
 #include "core/size_dist_sample.h"
 
@@ -61,7 +62,9 @@ typedef struct rsa {
     vp_fit fit;
     vp_particles *p;
     vp_sgrid g;
-    const vp_polyhedron *poly; /* NULL: spheres */
+    const vp_polyhedron *poly; /* a platonic solid, or NULL */
+    const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
+    int solid;            /* poly or mesh: not spheres */
     double rin;           /* insphere / bounding-sphere radius (1 for spheres):
                              two particles whose centres are closer than
                              rin (r_i + r_j) overlap whatever their orientation */
@@ -193,6 +196,7 @@ static int solid_visit(void *user, uint32_t j) {
     }
     double qj[4];
     vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
+    if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, w->q, w->x, rj, qj, c, NULL);
     return !(vp_poly_separation(s->poly, w->r, w->q, w->x, s->poly, rj, qj, c) >= 0.0);
 }
 
@@ -201,6 +205,7 @@ static int solid_visit(void *user, uint32_t j) {
 static int solid_fits_wall(const rsa *s, const double x[3], double d, const double q[4], double r) {
     if (d <= thr_ok(s, r)) return 1;
     if (s->fit == VP_FIT_CENTER || !(d <= thr_drop(s, r))) return 0;
+    if (s->mesh) return vp_mesh_shape_wall_distance(s->c, s->mesh, r, q, x, 0.0) <= 0.0;
     return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
 }
 
@@ -539,7 +544,7 @@ static void make_darts(void *user, size_t ci) {
         t->p[2] = s->origin[2] + ((double)(c->z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
         t->d = (c->z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
-        if (s->poly) { /* the exact tests depend on the radius: on accepting */
+        if (s->solid) { /* the exact tests depend on the radius: on accepting */
             float f[4] = {0, 0, 0, 1};
             if (s->orient_random) {
                 double q[4];
@@ -614,7 +619,7 @@ static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
     double sum = 0;
     for (size_t i = first; i < last; i++) {
         double r0 = s->p->radii[i];
-        double b = s->poly ? grow_solid(s, i, diag) : grow_one(s, i, diag);
+        double b = s->solid ? grow_solid(s, i, diag) : grow_one(s, i, diag);
         /* a hair short of touching, so that the float radius and rounded
          * positions can never make the contact an overlap */
         double target = b * (1.0 - 4e-7);
@@ -670,7 +675,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     double expect = ps->maximal ? 0.4 * vol / (s->unit_volume * s->rmin * s->rmin * s->rmin)
                                 : (double)ps->count;
     /* diagonal 2 rin rmin: a particle covers its cell */
-    double a0 = 2.0 * s->rin * s->rmin / sqrt(3.0);
+    double a0 = 2.0 * (s->rin > 0.25 ? s->rin : 0.25) * s->rmin / sqrt(3.0);
     double max_cells = 2.0 * expect;
     if (max_cells < 4096) max_cells = 4096;
     if (max_cells > 1 << 26) max_cells = 1 << 26;
@@ -699,7 +704,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     /* maximal: ends when no cell is left. For solids the cells are dropped
      * only by inspheres (a necessary condition), so they seldom run out:
      * the retry limit ends those passes. */
-    if (ps->maximal && !s->poly) retries = SIZE_MAX;
+    if (ps->maximal && !s->solid) retries = SIZE_MAX;
     size_t want = ps->maximal ? SIZE_MAX : ps->count;
     size_t first = s->p->count, consecutive = 0;
     double cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
@@ -746,7 +751,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             used++;
             rep->tries++;
             int good;
-            if (s->poly) {
+            if (s->solid) {
                 good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
             } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
                        s->p->count > s->n0) { /* spheres placed in this batch */
@@ -787,7 +792,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             s->p->radii[i] = (float)cur_r;
             if (cur_r > s->max_r) s->max_r = cur_r;
             s->p->groups[i] = (uint16_t)pass_index;
-            if (s->poly)
+            if (s->solid)
                 for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)t->q[m];
             if (vp_sgrid_insert(&s->g, (uint32_t)i, t->p, cur_r) != 0) {
                 r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
@@ -870,8 +875,11 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        VP_MAX_GROUPS);
     if (params->fit != VP_FIT_INSIDE && params->fit != VP_FIT_CENTER)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown fit");
-    if ((int)params->shape < 0 || params->shape >= VP_SHAPE_COUNT)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown shape");
+    if (params->shape == VP_SHAPE_MESH ? !params->mesh
+                                       : ((int)params->shape < 0 || params->shape >= VP_SHAPE_COUNT))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       params->shape == VP_SHAPE_MESH ? "rsa: a mesh shape needs its vp_mesh_shape"
+                                                      : "rsa: unknown shape");
     if (params->orient != VP_ORIENT_RANDOM && params->orient != VP_ORIENT_FIXED)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown orientation mode");
     if (params->overlap != VP_OVERLAP_EXACT && params->overlap != VP_OVERLAP_BBOX)
@@ -881,7 +889,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: the bounding-box overlap test needs fixed orientations (axis-aligned "
                        "boxes of rotated solids would not bound them)");
-    const double unit_volume = vp_shape_unit_volume(params->shape);
+    const double unit_volume = params->shape == VP_SHAPE_MESH
+                                   ? vp_mesh_shape_volume(params->mesh)
+                                   : vp_shape_unit_volume(params->shape);
     double rmin = HUGE_VAL, rmax = 0, estimate = 0;
     const vp_container_info *ci = &c->info;
     for (size_t i = 0; i < params->npasses; i++) {
@@ -931,17 +941,23 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.rin = 1.0;
     s.reach = 1.0;
     s.poly = vp_shape_polyhedron(params->shape);
-    if (s.poly) {
-        s.rin = s.poly->inradius;
+    s.mesh = params->shape == VP_SHAPE_MESH ? params->mesh : NULL;
+    s.solid = s.poly || s.mesh;
+    if (s.solid) {
+        s.rin = s.poly ? s.poly->inradius : s.mesh->inradius;
         s.orient_random = params->orient == VP_ORIENT_RANDOM;
         s.bbox = params->overlap == VP_OVERLAP_BBOX;
         s.reach = 1.0;
         for (int k = 0; k < 3; k++) {
             s.bb_lo[k] = HUGE_VAL;
             s.bb_hi[k] = -HUGE_VAL;
-            for (int v = 0; v < s.poly->nverts; v++) {
+            for (int v = 0; s.poly && v < s.poly->nverts; v++) {
                 if (s.poly->verts[v][k] < s.bb_lo[k]) s.bb_lo[k] = s.poly->verts[v][k];
                 if (s.poly->verts[v][k] > s.bb_hi[k]) s.bb_hi[k] = s.poly->verts[v][k];
+            }
+            if (s.mesh) {
+                s.bb_lo[k] = s.mesh->bb_lo[k];
+                s.bb_hi[k] = s.mesh->bb_hi[k];
             }
         }
         if (s.bbox) {
@@ -955,12 +971,13 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     }
     vp_result r = vp_particles_create(ctx, 0, &s.p);
     if (r != VP_OK) return r;
-    s.p->has_orient = s.poly != NULL;
+    s.p->has_orient = s.solid;
     if (reserve(s.p, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
     }
     s.p->shape = params->shape;
+    s.p->mesh = s.mesh;
     s.p->group_count = (unsigned)params->npasses;
     for (size_t i = 0; i < params->npasses; i++) {
         if (params->passes[i].name[0])

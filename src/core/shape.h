@@ -51,4 +51,17 @@ double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4],
 struct vp_container;
 double vp_poly_wall_distance(const struct vp_container *c, const vp_polyhedron *poly,
                              double scale, const double q[4], const double t[3], double stop);
+
+/* The samplers behind the wall tests (poly_wall.c, mesh_shape.c): each
+ * returns 1 once the running maximum of the container distance is above
+ * stop (the caller can stop). segment: the n - 1 points strictly between p
+ * and q; triangle: the interior points of a barycentric grid of n steps. */
+typedef struct vp_wall_acc {
+    const struct vp_container *c;
+    double worst, stop;
+} vp_wall_acc;
+int vp_wall_sample(vp_wall_acc *a, const double x[3]);
+int vp_wall_segment(vp_wall_acc *a, const double p[3], const double q[3], int n);
+int vp_wall_triangle(vp_wall_acc *a, const double p0[3], const double p1[3], const double p2[3],
+                     int n);
 #endif

@@ -5,16 +5,15 @@
  * vp_mesh back through a pipe; the parent enforces a deadline and reports
  * how the child ended. */
 #include "mesh/isolate.h"
+#include "core/subproc.h"
 
 #include <errno.h>
-#include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 /* Fixed-size header the child sends first; arrays follow. */
@@ -25,93 +24,16 @@ typedef struct wire_header {
     double signed_volume, bmin[3], bmax[3];
 } wire_header;
 
-static int write_all(int fd, const void *buf, size_t n)
-{
-    const char *p = buf;
-    while (n) {
-        ssize_t w = write(fd, p, n);
-        if (w < 0) {
-            if (errno == EINTR)
-                continue;
-            return -1;
-        }
-        p += w;
-        n -= (size_t)w;
-    }
-    return 0;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* 0 on success, 1 on EOF before n bytes, -1 on error, 2 on timeout. */
-static int read_all(int fd, void *buf, size_t n, double deadline)
-{
-    char *p = buf;
-    while (n) {
-        double left = deadline - now_s();
-        if (left <= 0)
-            return 2;
-        struct pollfd pfd = {fd, POLLIN, 0};
-        int pr = poll(&pfd, 1, (int)(left * 1000.0) + 1);
-        if (pr < 0) {
-            if (errno == EINTR)
-                continue;
-            return -1;
-        }
-        if (pr == 0)
-            return 2;
-        ssize_t r = read(fd, p, n);
-        if (r < 0) {
-            if (errno == EINTR || errno == EAGAIN)
-                continue;
-            return -1;
-        }
-        if (r == 0)
-            return 1;
-        p += r;
-        n -= (size_t)r;
-    }
-    return 0;
-}
-
 double vp_mesh_import_timeout(size_t file_bytes)
 {
-    const char *env = getenv("VDBPACK_IMPORT_TIMEOUT");
-    if (env && *env) {
-        char *end = NULL;
-        double v = strtod(env, &end);
-        if (end && *end == '\0' && v > 0)
-            return v;
-    }
     /* Generous: Assimp reads well over 10 MB/s of OBJ on this class of
      * machine, so 2 s per MB is a hang, not a slow parse. */
-    return 10.0 + 2.0 * (double)file_bytes / 1e6;
+    return vp_subproc_timeout("VDBPACK_IMPORT_TIMEOUT", 10.0, 2.0, file_bytes);
 }
-
-/* Builds that import in-process instead of in a child:
- * - fuzz builds (VP_FUZZING), so that the sanitizers see our own code
- *   (welding, topology) and the fuzzer sees Assimp's failures;
- * - AddressSanitizer builds: clang 14's ASan allocator is not fork-safe (a
- *   child forked while another thread holds an allocator lock waits on it
- *   forever: seen as 6 of 75 imports of vdb_samples/torus.obj hanging under
- *   load), and its shadow memory cannot live under RLIMIT_AS anyway.
- * gcc says __SANITIZE_ADDRESS__, clang 14 only __has_feature. */
-#if defined(VP_FUZZING) || defined(__SANITIZE_ADDRESS__)
-#define VP_IMPORT_IN_PROCESS 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define VP_IMPORT_IN_PROCESS 1
-#endif
-#endif
 
 int vp_mesh_import_is_isolated(void)
 {
-#ifdef VP_IMPORT_IN_PROCESS
+#ifdef VP_SUBPROC_IN_PROCESS
     return 0;
 #else
     return 1;
@@ -150,10 +72,10 @@ static void child_main(int fd, vp_mesh_import_fn fn, const void *arg)
         memcpy(h.bmin, m->bmin, sizeof h.bmin);
         memcpy(h.bmax, m->bmax, sizeof h.bmax);
     }
-    int bad = write_all(fd, &h, sizeof h) || write_all(fd, err, h.errlen);
+    int bad = vp_subproc_write_all(fd, &h, sizeof h) || vp_subproc_write_all(fd, err, h.errlen);
     if (!bad && r == VP_OK && m)
-        bad = write_all(fd, m->verts, 3 * m->nverts * sizeof *m->verts) ||
-              write_all(fd, m->tris, 3 * m->ntris * sizeof *m->tris);
+        bad = vp_subproc_write_all(fd, m->verts, 3 * m->nverts * sizeof *m->verts) ||
+              vp_subproc_write_all(fd, m->tris, 3 * m->ntris * sizeof *m->tris);
     _exit(bad ? 3 : 0);
 }
 
@@ -161,7 +83,7 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
                                   double timeout, vp_mesh **out, char *err, size_t errlen)
 {
     *out = NULL;
-#ifdef VP_IMPORT_IN_PROCESS
+#ifdef VP_SUBPROC_IN_PROCESS
     (void)name;
     (void)timeout;
     return fn(arg, out, err, errlen);
@@ -187,15 +109,15 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
     }
     close(fds[1]);
 
-    double deadline = now_s() + timeout;
+    double deadline = vp_subproc_now() + timeout;
     vp_result res = VP_OK;
     vp_mesh *m = NULL;
     wire_header h;
-    int rr = read_all(fds[0], &h, sizeof h, deadline);
+    int rr = vp_subproc_read_all(fds[0], &h, sizeof h, deadline);
     if (rr == 0) {
         char msg[512];
         size_t el = h.errlen < sizeof msg ? h.errlen : sizeof msg - 1;
-        rr = read_all(fds[0], msg, el, deadline);
+        rr = vp_subproc_read_all(fds[0], msg, el, deadline);
         msg[rr == 0 ? el : 0] = '\0';
         if (rr == 0 && h.result != VP_OK) {
             res = (vp_result)h.result;
@@ -220,9 +142,9 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
                 m->signed_volume = h.signed_volume;
                 memcpy(m->bmin, h.bmin, sizeof h.bmin);
                 memcpy(m->bmax, h.bmax, sizeof h.bmax);
-                rr = read_all(fds[0], m->verts, 3 * h.nverts * sizeof *m->verts, deadline);
+                rr = vp_subproc_read_all(fds[0], m->verts, 3 * h.nverts * sizeof *m->verts, deadline);
                 if (rr == 0)
-                    rr = read_all(fds[0], m->tris, 3 * h.ntris * sizeof *m->tris, deadline);
+                    rr = vp_subproc_read_all(fds[0], m->tris, 3 * h.ntris * sizeof *m->tris, deadline);
             }
         }
     }

@@ -38,6 +38,7 @@ bool shape_from(const openvdb::MetaMap &m, vp_shape &out)
 {
     openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shape");
     if (!s) return false;
+    if (s->value() == "mesh") { out = VP_SHAPE_MESH; return true; }
     for (int i = 0; i < VP_SHAPE_COUNT; ++i)
         if (s->value() == kShapeNames[i]) { out = vp_shape(i); return true; }
     return false;

@@ -32,17 +32,19 @@ expect_error() {
     local t0 t1 rc=0
     t0=$(date +%s.%N)
     # test-only pseudo-options: --ulimit-f KIB (file-size limit for the run),
-    # --env-threads-zero (VDBPACK_THREADS=0 in the environment)
-    local args=() fsize=unlimited envt=""
+    # --env-threads-zero (VDBPACK_THREADS=0 in the environment), --env
+    # NAME=VALUE (any variable)
+    local args=() fsize=unlimited envt="" envs=()
     while [ $# -gt 0 ]; do
         case $1 in
         --ulimit-f) fsize=$2; shift 2 ;;
         --env-threads-zero) envt=0; shift ;;
+        --env) envs+=("$2"); shift 2 ;;
         *) args+=("$1"); shift ;;
         esac
     done
     (cd run && ulimit -f "$fsize" && if [ -n "$envt" ]; then export VDBPACK_THREADS=$envt; fi &&
-        exec "$VDBPACK" "${args[@]}" >../out.txt 2>../err.txt) || rc=$?
+        exec env "${envs[@]}" "$VDBPACK" "${args[@]}" >../out.txt 2>../err.txt) || rc=$?
     t1=$(date +%s.%N)
     local lines
     lines=$(wc -l <err.txt)
@@ -251,7 +253,9 @@ expect_same_count "degenerate extra triangles" "$REF" -- pack degenerate_extra.o
 # --- .vdb containers
 expect_error "truncated vdb" "truncated\.vdb.*(truncated|not a readable)" "" -- pack ../truncated.vdb --radius 0.1 -o out.vdb
 expect_error "truncated vdb header" "truncated_header\.vdb.*truncated" "" -- pack ../truncated_header.vdb --radius 0.1 -o out.vdb
-expect_error "corrupt vdb" "corrupt\.vdb.*not a readable" "" -- pack ../corrupt.vdb --radius 0.1 -o out.vdb
+# OpenVDB spends minutes (gigabytes of page faults) on this one: the child
+# reader's deadline ends it (src/api/probe.c)
+expect_error "corrupt vdb" "corrupt\.vdb.*(not a readable|did not finish within)" "" -- pack ../corrupt.vdb --radius 0.1 -o out.vdb --env VDBPACK_READ_TIMEOUT=5
 expect_error "random bytes vdb" "garbage\.vdb.*not a (readable|VDB)" "" -- pack ../garbage.vdb --radius 0.1 -o out.vdb
 expect_error "text as vdb" "text\.vdb" "" -- pack ../text.vdb --radius 0.1 -o out.vdb
 expect_error "empty vdb" "empty\.vdb" "" -- pack ../empty.vdb --radius 0.1 -o out.vdb
@@ -329,6 +333,26 @@ paged="$VP_SRC/tests/data/points_paged_assert.vdb"
 expect_error "info: points page overrun (OpenVDB assertion)" "points_paged_assert\.vdb.*not a readable" "" -- info "$paged"
 expect_error "check: points page overrun (OpenVDB assertion)" "points_paged_assert\.vdb.*not a readable" "" -- check "$paged" --container sphere:1
 expect_error "pack: points page overrun as container (OpenVDB assertion)" "points_paged_assert\.vdb" "" -- pack "$paged" --radius 0.1 -o out.vdb
+# files on which OpenVDB 10's own reader overruns a heap buffer (Blosc into
+# a PointIndex leaf: glibc then aborts) or copies gigabytes of metadata;
+# found by fuzz_vdb. vdbpack reads every .vdb in a child process first
+# (src/api/probe.c), which sanitizer builds cannot do: skipped there.
+if "$VDBPACK" --version | grep -q "child process"; then
+  ovf="$VP_SRC/tests/data/points_blosc_overflow.vdb"
+  expect_error "info: OpenVDB heap overflow (contained)" "points_blosc_overflow\.vdb.*OpenVDB's reader crashed" "" -- info "$ovf"
+  expect_error "check: OpenVDB heap overflow (contained)" "points_blosc_overflow\.vdb.*OpenVDB's reader crashed" "" -- check "$ovf" --container sphere:1
+  expect_error "pack: OpenVDB heap overflow as container (contained)" "points_blosc_overflow\.vdb" "" -- pack "$ovf" --radius 0.1 -o out.vdb
+  huge="$VP_SRC/tests/data/meta_huge_copy.vdb"
+  expect_error "info: metadata of a huge size" "meta_huge_copy\.vdb.*not a readable" "" -- info "$huge"
+  # the deadline: a reader that never finishes (a FIFO without a writer
+  # blocks in open) is killed at it, with one line
+  mkfifo fifo.vdb
+  expect_error "info: reader past its deadline" "fifo\.vdb.*did not finish within 1 s" 20 -- info ../fifo.vdb --env VDBPACK_READ_TIMEOUT=1
+  expect_error "check: reader past its deadline" "fifo\.vdb.*did not finish within 1 s" 20 -- check ../fifo.vdb --container sphere:1 --env VDBPACK_READ_TIMEOUT=1
+  rm -f fifo.vdb
+else
+  echo "--- skipped: OpenVDB reader crash containment (in-process sanitizer build)"
+fi
 
 # a failed pack must not clobber an existing output file
 echo "--- existing output survives a failure"

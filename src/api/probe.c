@@ -1,0 +1,113 @@
+/* OpenVDB 10's reader trusts the sizes and offsets stored in a .vdb: on a
+ * corrupt file it can read past its buffers, copy gigabytes, loop for
+ * minutes or die (see docs/hardening.md for what fuzzing found). vdbpack
+ * cannot mend OpenVDB, so every .vdb is first read in a forked child that
+ * runs the very same read and then exits: a crash or hang there becomes
+ * one error line here, and only a file the child read cleanly is read again
+ * in-process. The cost is a second read of the file. */
+#include "api/probe.h"
+#include "core/context.h"
+#include "core/subproc.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#ifndef VP_SUBPROC_IN_PROCESS
+static const char *base_name(const char *path) {
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+#endif
+
+vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const void *arg) {
+#ifdef VP_SUBPROC_IN_PROCESS
+    (void)path;
+    (void)fn;
+    (void)arg;
+    return VP_OK;
+#else
+    const char *env = getenv("VDBPACK_VDB_PROBE");
+    if (env && !strcmp(env, "0")) return VP_OK;
+    struct stat st;
+    if (stat(path, &st) != 0) return VP_OK; /* the in-process read names the error */
+    double timeout = vp_subproc_timeout("VDBPACK_READ_TIMEOUT", 30.0, 1.0, (size_t)st.st_size);
+    int fds[2];
+    if (pipe(fds) != 0)
+        return vp_fail(ctx, VP_ERR_IO, "%s: cannot start the file check (pipe: %s)",
+                       base_name(path), strerror(errno));
+    fflush(NULL); /* nothing buffered may be written twice */
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: cannot start the file check (fork: %s)",
+                       base_name(path), strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        signal(SIGPIPE, SIG_DFL);
+        /* the child reports through the pipe only: glibc's and OpenVDB's
+         * own messages on a crash would make a second error line */
+        int devnull = open("/dev/null", O_WRONLY);
+        if (devnull >= 0) dup2(devnull, 2);
+        /* a runaway allocation ends the child, not the machine */
+        long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
+        if (pages > 0 && psz > 0) {
+            struct rlimit rl;
+            rl.rlim_cur = rl.rlim_max = (rlim_t)pages * (rlim_t)psz;
+            setrlimit(RLIMIT_AS, &rl);
+        }
+        char err[1024] = "";
+        int32_t rc = fn(arg, err, sizeof err);
+        uint32_t n = (uint32_t)strlen(err);
+        int bad = vp_subproc_write_all(fds[1], &rc, sizeof rc) ||
+                  vp_subproc_write_all(fds[1], &n, sizeof n) ||
+                  vp_subproc_write_all(fds[1], err, n);
+        _exit(bad ? 3 : 0);
+    }
+    close(fds[1]);
+    double deadline = vp_subproc_now() + timeout;
+    int32_t rc = 0;
+    uint32_t n = 0;
+    char msg[1024];
+    int rr = vp_subproc_read_all(fds[0], &rc, sizeof rc, deadline);
+    if (rr == 0) rr = vp_subproc_read_all(fds[0], &n, sizeof n, deadline);
+    if (rr == 0 && n >= sizeof msg) rr = -1;
+    if (rr == 0) rr = vp_subproc_read_all(fds[0], msg, n, deadline);
+    close(fds[0]);
+    int status = 0;
+    if (rr == 2) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        return vp_fail(ctx, VP_ERR_FORMAT,
+                       "%s: OpenVDB's reader did not finish within %.0f s; the file is probably "
+                       "corrupt (set VDBPACK_READ_TIMEOUT to allow longer)",
+                       base_name(path), timeout);
+    }
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (rr != 0) {
+        if (WIFSIGNALED(status))
+            return vp_fail(ctx, VP_ERR_FORMAT,
+                           "%s: OpenVDB's reader crashed on this file (signal %d); the file is "
+                           "probably corrupt",
+                           base_name(path), WTERMSIG(status));
+        return vp_fail(ctx, VP_ERR_FORMAT,
+                       "%s: OpenVDB's reader failed on this file (exit status %d); the file is "
+                       "probably corrupt",
+                       base_name(path), WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    }
+    msg[n] = '\0';
+    if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", msg);
+    return VP_OK;
+#endif
+}
