@@ -112,6 +112,11 @@ int vp_cli_render_particles(vp_context *ctx, const vp_particles *p, const vp_ren
     return r == VP_OK ? 0 : 1;
 }
 
+static int on_progress(void *user, double fraction, const char *stage) {
+    (void)user, (void)fraction, (void)stage;
+    return !vp_cli_interrupted();
+}
+
 int vp_cli_render(int argc, char **argv) {
     const char *file = NULL, *out = NULL;
     int quiet = 0, view_set = 0, camera_set = 0;
@@ -200,6 +205,10 @@ int vp_cli_render(int argc, char **argv) {
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
     if (threads) vp_context_set_threads(ctx, (int)threads);
+    /* SIGINT/SIGTERM cancel through the progress callback; past ulimit -f
+     * the writers fail and clean up instead of the process dying */
+    vp_cli_signals_install();
+    vp_context_set_progress(ctx, on_progress, NULL);
     int status = 1;
     vp_particles *p = NULL;
     if (vp_read_points(ctx, file, &p) != VP_OK) {
@@ -211,9 +220,16 @@ int vp_cli_render(int argc, char **argv) {
         goto done;
     }
     if (vp_cli_render_particles(ctx, p, &rp, out) != 0) {
-        status = vp_cli_die(1, "%s", vp_context_message(ctx));
+        status = vp_cli_interrupted() ? vp_cli_interrupted_exit()
+                                      : vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
     }
+    if (vp_cli_interrupted()) {
+        vp_cli_signals_track_output(out);
+        status = vp_cli_interrupted_exit();
+        goto done;
+    }
+    vp_cli_signals_done();
     if (!quiet)
         printf("vdbpack: rendered %zu particle%s of %s into %s (%dx%d)\n", p->count,
                p->count == 1 ? "" : "s", file, out, rp.width, rp.height);

@@ -351,6 +351,8 @@ expect_error "render: unknown image type" "out\.jpg.*\.exr or \.png" "" -- rende
 expect_error "render: unwritable output" "nonexistent-dir" "" -- render ../points.vdb -o /nonexistent-dir/out.exr
 mkdir -p adir.png
 expect_error "render: output is a directory" "adir.*directory" "" -- render ../points.vdb -o ../adir.png
+expect_error "render: file-size limit (full disk), EXR" "big\.exr.*(too large|writing failed)" "" -- render ../points.vdb -o big.exr --size 1000x1000 --ulimit-f 20
+expect_error "render: file-size limit (full disk), PNG" "big\.png.*(write error|writing failed)" "" -- render ../points.vdb -o big.png --size 1000x1000 --ulimit-f 20
 expect_error "render: missing file" "nothere\.vdb" "" -- render ../nothere.vdb -o out.png
 expect_error "render: no points grid (a level set)" "cube_ls\.vdb.*no point data grid" "" -- render ../cube_ls.vdb -o out.png
 expect_error "render: no -o" "no output" "" -- render ../points.vdb
