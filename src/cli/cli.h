@@ -47,6 +47,17 @@ struct vp_container;
 int vp_cli_analytic_container(struct vp_context *ctx, const char *spec, struct vp_container **out);
 /* `vdbpack check ...` (argv after "check"). */
 int vp_cli_check(int argc, char **argv);
+/* `vdbpack render ...` (argv after "render"), render.c. */
+int vp_cli_render(int argc, char **argv);
+/* 0 if path names a .exr or .png, else the exit status after one line
+ * naming opt. */
+int vp_cli_preview_path_check(const char *opt, const char *path);
+/* Renders p with rp (NULL = defaults) and writes path: 0, or 1 with the
+ * message left on ctx. */
+struct vp_particles;
+struct vp_render_params;
+int vp_cli_render_particles(struct vp_context *ctx, const struct vp_particles *p,
+                            const struct vp_render_params *rp, const char *path);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

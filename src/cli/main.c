@@ -23,6 +23,7 @@ static const char *MAIN_HELP =
     "  vdbpack pack CONTAINER -o OUT.vdb [options]   pack particles (vdbpack pack --help)\n"
     "  vdbpack info FILE.vdb [--json]                describe a .vdb file\n"
     "  vdbpack check FILE.vdb --container C          verify a packing (vdbpack check --help)\n"
+    "  vdbpack render FILE.vdb -o IMAGE.exr|.png     preview render (vdbpack render --help)\n"
     "  vdbpack --version                             print the version\n"
     "  vdbpack --help                                this text\n"
     "\n"
@@ -101,6 +102,8 @@ static const char *PACK_HELP =
     "  --save-container FILE   also write the container level set as its own .vdb\n"
     "  --shape-out FILE        also write the unit particle shape as OBJ (instancing;\n"
     "                          for a mesh shape, the mesh as normalised)\n"
+    "  --preview IMAGE         also render the packing (default settings of vdbpack\n"
+    "                          render) into IMAGE.exr or IMAGE.png\n"
     "\n"
     "Run:\n"
     "  --threads N             worker threads (default: $VDBPACK_THREADS, else all\n"
@@ -182,5 +185,6 @@ int main(int argc, char **argv) {
     }
     if (!strcmp(cmd, "info")) return cmd_info(argc - 2, argv + 2);
     if (!strcmp(cmd, "check")) return vp_cli_check(argc - 2, argv + 2);
+    if (!strcmp(cmd, "render")) return vp_cli_render(argc - 2, argv + 2);
     return vp_cli_die(2, "unknown command '%s' (see vdbpack --help)", cmd);
 }

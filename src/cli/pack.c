@@ -44,6 +44,7 @@ typedef struct pack_opts {
     int full_precision;
     const char *save_container;
     const char *shape_out;
+    const char *preview;    /* --preview IMAGE.exr|.png */
     uint64_t threads;
     uint64_t max_memory;
     int json;
@@ -312,6 +313,10 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
         } else if (!strcmp(a, "--shape-out")) {
             VALUE();
             o->shape_out = v;
+        } else if (!strcmp(a, "--preview")) {
+            VALUE();
+            if ((rc = vp_cli_preview_path_check("pack: --preview", v)) != 0) return rc;
+            o->preview = v;
         } else if (!strcmp(a, "--threads")) {
             VALUE();
             if (vp_cli_parse_u64(v, &o->threads) != 0 || o->threads == 0 || o->threads > 256)
@@ -787,6 +792,20 @@ int vp_cli_pack(int argc, char **argv) {
         vp_cli_signals_track_output(o.output);
         status = vp_cli_interrupted_exit();
         goto done;
+    }
+    if (o.preview) {
+        /* the preview is part of the job: if it fails, no output stays */
+        vp_cli_signals_track_output(o.output);
+        if (vp_cli_render_particles(ctx, p, NULL, o.preview) != 0) {
+            unlink(o.output);
+            status = lib_error(ctx);
+            goto done;
+        }
+        vp_cli_signals_track_output(o.preview);
+        if (vp_cli_interrupted()) {
+            status = vp_cli_interrupted_exit();
+            goto done;
+        }
     }
     vp_cli_signals_done();
     ncreated = 0; /* success: keep every output */

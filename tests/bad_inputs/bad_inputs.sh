@@ -354,6 +354,40 @@ else
   echo "--- skipped: OpenVDB reader crash containment (in-process sanitizer build)"
 fi
 
+# --- vdbpack render (and pack --preview): absurd sizes, files without
+# particles or without a points grid, unknown names, outputs that cannot be
+# written
+if command -v vdb_ax >/dev/null; then
+    vdb_ax execute -i points.vdb -s 'deletepoint();' -o empty_points.vdb >/dev/null 2>&1 || true
+fi
+expect_error "render: --size 0x100" "size.*0x100" "" -- render ../points.vdb -o out.png --size 0x100
+expect_error "render: --size negative" "size.*-5x5" "" -- render ../points.vdb -o out.png --size -5x5
+expect_error "render: --size side > 16384" "size.*20000x10.*16384" "" -- render ../points.vdb -o out.exr --size 20000x10
+expect_error "render: --size beyond the pixel budget" "size.*16000x16000.*pixels" "" -- render ../points.vdb -o out.exr --size 16000x16000
+expect_error "render: --size malformed" "size.*WxH.*'big'" "" -- render ../points.vdb -o out.png --size big
+expect_error "render: unknown --view" "unknown --view 'side'" "" -- render ../points.vdb -o out.png --view side
+expect_error "render: unknown --colour" "unknown --colour 'red'" "" -- render ../points.vdb -o out.png --colour red
+expect_error "render: --cut bad axis" "--cut.*'w:1'" "" -- render ../points.vdb -o out.png --cut w:1
+expect_error "render: --cut bad value" "--cut.*'x:abc'" "" -- render ../points.vdb -o out.png --cut x:abc
+expect_error "render: --cut removes everything" "cut removes every particle" "" -- render ../points.vdb -o out.png --cut y:-100
+expect_error "render: --camera eye = target" "--camera.*'1,1,1:1,1,1'" "" -- render ../points.vdb -o out.png --camera 1,1,1:1,1,1
+expect_error "render: unknown image type" "out\.jpg.*\.exr or \.png" "" -- render ../points.vdb -o out.jpg
+expect_error "render: unwritable output" "nonexistent-dir" "" -- render ../points.vdb -o /nonexistent-dir/out.exr
+mkdir -p adir.png
+expect_error "render: output is a directory" "adir.*directory" "" -- render ../points.vdb -o ../adir.png
+expect_error "render: file-size limit (full disk), EXR" "big\.exr.*(too large|writing failed)" "" -- render ../points.vdb -o big.exr --size 1000x1000 --ulimit-f 20
+expect_error "render: file-size limit (full disk), PNG" "big\.png.*(write error|writing failed)" "" -- render ../points.vdb -o big.png --size 1000x1000 --ulimit-f 20
+expect_error "render: missing file" "nothere\.vdb" "" -- render ../nothere.vdb -o out.png
+expect_error "render: no points grid (a level set)" "cube_ls\.vdb.*no point data grid" "" -- render ../cube_ls.vdb -o out.png
+expect_error "render: no -o" "no output" "" -- render ../points.vdb
+if [ -f empty_points.vdb ]; then
+    expect_error "render: zero particles" "empty_points\.vdb.*no particles" "" -- render ../empty_points.vdb -o out.exr
+else
+    echo "--- (skipped: render of a zero-particle file needs vdb_ax)"
+fi
+expect_error "pack --preview: unknown image type" "--preview.*'p\.tif'" "" -- pack sphere:1 --radius 0.2 -o out.vdb --preview p.tif
+expect_error "pack --preview: unwritable (no .vdb left either)" "nonexistent-dir" "" -- pack sphere:1 --radius 0.2 -o out.vdb --preview /nonexistent-dir/p.png
+
 # a failed pack must not clobber an existing output file
 echo "--- existing output survives a failure"
 echo keep >keep.vdb
@@ -362,7 +396,7 @@ echo keep >keep.vdb
 ls -a | grep -q '\.keep\.vdb\.tmp' && fail "hidden temp file left beside keep.vdb"
 
 # --- help and version ------------------------------------------------------------
-for args in "--help" "pack --help" "info --help" "--version"; do
+for args in "--help" "pack --help" "info --help" "render --help" "--version"; do
     echo "--- vdbpack $args"
     rc=0
     # shellcheck disable=SC2086
