@@ -294,6 +294,7 @@ vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **o
 #include "vdbpack/rsa.h"
 #include "vdbpack/relax.h"
 #include "vdbpack/check.h"
+#include "vdbpack/export.h"
 
 #ifdef __cplusplus
 }
