@@ -14,6 +14,8 @@
 typedef struct pack_opts {
     const char *container;
     const char *output;
+    const char *format;     /* --format, or NULL: by the output's extension */
+    int out_format;         /* vp_format of the output */
     const char *method;
     vp_shape shape;
     int orient;             /* -1 unset, else vp_orient_mode */
@@ -193,6 +195,9 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
         if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             VALUE();
             o->output = v;
+        } else if (!strcmp(a, "--format")) {
+            VALUE();
+            o->format = v;
         } else if (!strcmp(a, "--method")) {
             VALUE();
             if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0)
@@ -327,7 +332,9 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     }
     if (!o->container) return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
-    int rc = check_method_options(o, have_radius, have_count);
+    int rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
+    if (rc) return rc;
+    rc = check_method_options(o, have_radius, have_count);
     if (rc) return rc;
     return 0;
 }
@@ -749,7 +756,7 @@ int vp_cli_pack(int argc, char **argv) {
     wp.full_precision = o.full_precision;
     wp.meta = meta;
     wp.meta_count = nmeta;
-    if (vp_write_points(ctx, o.output, p, &wp) != VP_OK) {
+    if (vp_cli_write_particles(ctx, o.output, o.out_format, p, &wp, o.quiet) != 0) {
         status = lib_error(ctx);
         goto done;
     }
