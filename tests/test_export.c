@@ -186,6 +186,48 @@ static void test_readers_strict(void) {
     vp_context_destroy(ctx);
 }
 
+/* Random byte flips in a good PLY and CSV (deterministic): the readers
+ * either refuse the file or return a set that passes their own checks;
+ * never a crash (run under valgrind/ASan by the CI's hardening stages). */
+static void test_mutated_files(void) {
+    vp_context *ctx = NULL;
+    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    vp_particles *p = make_set(ctx, 12);
+    const char *names[2] = {"m.ply", "m.csv"};
+    int refused = 0, accepted = 0;
+    for (int k = 0; k < 2; k++) {
+        ASSERT_EQ_INT(vp_export(ctx, tmp(names[k]), p, NULL), VP_OK);
+        FILE *f = fopen(tmp(names[k]), "rb");
+        static char good[8192], bad[8192];
+        size_t len = fread(good, 1, sizeof good, f);
+        fclose(f);
+        ASSERT_TRUE(len > 0 && len < sizeof good);
+        for (int t = 0; t < 1500; t++) {
+            memcpy(bad, good, len);
+            int flips = 1 + (int)(rnd() * 4);
+            for (int j = 0; j < flips; j++) bad[(size_t)(rnd() * (double)len)] = (char)(rnd() * 256);
+            write_file(tmp("mut.bin"), bad, len - (t % 5 == 0 ? (size_t)(rnd() * 40) : 0));
+            vp_particles *q = NULL;
+            vp_result r = vp_import(ctx, tmp("mut.bin"), k ? VP_FORMAT_CSV : VP_FORMAT_PLY, &q, NULL);
+            if (r != VP_OK) {
+                ASSERT_TRUE(q == NULL);
+                refused++;
+                continue;
+            }
+            accepted++;
+            for (size_t i = 0; i < q->count; i++) {
+                ASSERT_TRUE(isfinite(q->positions[3 * i]) && q->radii[i] > 0);
+                ASSERT_TRUE(q->groups[i] < q->group_count);
+            }
+            vp_particles_destroy(q);
+        }
+    }
+    fprintf(stderr, "   %d mutated files refused, %d accepted (valid)\n", refused, accepted);
+    ASSERT_GE(refused, 1000);
+    vp_particles_destroy(p);
+    vp_context_destroy(ctx);
+}
+
 static void test_failed_writes_leave_nothing(void) {
     vp_context *ctx = NULL;
     ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
@@ -246,6 +288,7 @@ int main(void) {
     RUN_TEST(test_format_from_path);
     RUN_TEST(test_ply_csv_round_trip);
     RUN_TEST(test_readers_strict);
+    RUN_TEST(test_mutated_files);
     RUN_TEST(test_failed_writes_leave_nothing);
     RUN_TEST(test_obj_counts_and_estimate);
     char cmd[600];
