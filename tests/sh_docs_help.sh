@@ -10,7 +10,7 @@ doc="$VP_SRC/docs/cli.md"
 [ -f "$doc" ] || { echo "FAIL: $doc missing"; exit 1; }
 fail=0
 opts() { grep -oE -- '(^|[ ,\[(|])--[a-z][a-z-]*' | sed -E 's/^[ ,\[(|]//' | sort -u; }
-for cmd in pack info check render; do
+for cmd in pack info check render convert; do
   help=$("$VDBPACK" "$cmd" --help)
   # the section of docs/cli.md for this command: from "## vdbpack CMD" to the next "## "
   section=$(awk -v h="## vdbpack $cmd" '$0 ~ "^## " {on = ($0 == h)} on' "$doc")

@@ -188,6 +188,15 @@ set +e; "$VDBPACK" check tori.vdb --container box:1,1,1 >chk.out 2>chk.err; st=$
 grep -q 'Attribute "orient" on grid "points" exists of type "quats"' orient.txt ||
   die "tori: vdb_ax does not see orient as quats: $(cat orient.txt)"
 echo "  ok: check clean with --shape, refuses without it ($(cat chk.err))"
+# the full geometry as OBJ: every particle is the normalised mesh, moved
+"$VDBPACK" pack box:1,1,1 --method rsa --shape "$shp" --radius 0.1 --count 5 -o tori.obj -q ||
+  die "tori: OBJ export failed"
+nv=$(grep -c '^v ' tori.obj); nf=$(grep -c '^f ' tori.obj)
+[ "$nv" = $((5 * $(grep -c '^v ' unit_torus.obj))) ] && [ "$nf" = $((5 * $(grep -c '^f ' unit_torus.obj))) ] ||
+  die "tori.obj: $nv vertices, $nf faces for 5 tori"
+set +e; "$VDBPACK" render tori.vdb -o tori.png >/dev/null 2>rend.err; st=$?; set -e
+[ "$st" = 1 ] && [ "$(wc -l <rend.err)" = 1 ] && [ ! -e tori.png ] || die "render of mesh shapes: exit $st: $(cat rend.err)"
+echo "  ok: OBJ export $nv vertices, $nf faces; render refuses with one line"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >open_shape.obj
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >flat_shape.obj
 bad 2 "unknown --shape" box:1,1,1 --method rsa --shape cubes --radius 0.1 --count 10
@@ -195,6 +204,7 @@ bad 1 "not closed" box:1,1,1 --method rsa --shape open_shape.obj --radius 0.1 --
 bad 1 "no volume" box:1,1,1 --method rsa --shape flat_shape.obj --radius 0.1 --count 10
 bad 1 "nothere.obj" box:1,1,1 --method rsa --shape nothere.obj --radius 0.1 --count 10
 bad 2 "method rsa" box:1,1,1 --method lattice --shape "$shp" --radius 0.1
+bad 2 "preview" box:1,1,1 --method rsa --shape "$shp" --radius 0.1 --count 10 --preview p.png
 bad 2 "fixed" box:1,1,1 --method rsa --shape "$shp" --overlap bbox --orient random --radius 0.1 --count 10
 if [ -f "$VP_SHARED/spot.obj" ]; then
   echo "=== mesh shapes: grown cows (spot.obj) in peanut.obj"

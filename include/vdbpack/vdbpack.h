@@ -315,6 +315,7 @@ vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **o
 #include "vdbpack/relax.h"
 #include "vdbpack/check.h"
 #include "vdbpack/render.h"
+#include "vdbpack/export.h"
 
 #ifdef __cplusplus
 }

@@ -58,6 +58,22 @@ struct vp_particles;
 struct vp_render_params;
 int vp_cli_render_particles(struct vp_context *ctx, const struct vp_particles *p,
                             const struct vp_render_params *rp, const char *path);
+/* `vdbpack convert IN OUT ...` (argv after "convert"; convert.c). */
+int vp_cli_convert(int argc, char **argv);
+/* The output format: --format's value if given, else OUT's extension; 0
+ * and *out (a vp_format), or 2 after printing one line ("CMD: ..."). */
+int vp_cli_output_format(const char *cmd, const char *path, const char *format, int *out);
+/* Writes p to path in format (a vp_format) through vp_export, with wp's
+ * precision and metadata; for OBJ above VP_CLI_OBJ_WARN_BYTES (estimated)
+ * or VP_CLI_OBJ_WARN_COUNT particles, first one warning line on stderr
+ * unless quiet. 0, or 1 with the message in ctx. */
+#define VP_CLI_OBJ_WARN_BYTES 2e9
+#define VP_CLI_OBJ_WARN_COUNT 1000000
+struct vp_particles;
+struct vp_write_params;
+int vp_cli_write_particles(struct vp_context *ctx, const char *path, int format,
+                           const struct vp_particles *p, const struct vp_write_params *wp,
+                           int quiet);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

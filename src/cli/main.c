@@ -24,6 +24,8 @@ static const char *MAIN_HELP =
     "  vdbpack info FILE.vdb [--json]                describe a .vdb file\n"
     "  vdbpack check FILE.vdb --container C          verify a packing (vdbpack check --help)\n"
     "  vdbpack render FILE.vdb -o IMAGE.exr|.png     preview render (vdbpack render --help)\n"
+    "  vdbpack convert IN OUT                        convert a packing between .vdb, .ply,\n"
+    "                                                .csv and .obj (vdbpack convert --help)\n"
     "  vdbpack --version                             print the version\n"
     "  vdbpack --help                                this text\n"
     "\n"
@@ -95,8 +97,11 @@ static const char *PACK_HELP =
     "                          NAME[k]: the k-th of several grids named NAME)\n"
     "\n"
     "Output:\n"
-    "  -o, --output FILE       output .vdb (required)\n"
-    "  --precision fixed16|full  P as 16-bit fixed point or 32-bit float (default:\n"
+    "  -o, --output FILE       output file (required): .vdb (OpenVDB points), .ply,\n"
+    "                          .csv or .obj, by its extension (docs/export.md)\n"
+    "  --format F              the output's format: vdb, ply, csv or obj (default:\n"
+    "                          by its extension)\n"
+    "  --precision fixed16|full  .vdb: P as 16-bit fixed point or 32-bit float (default:\n"
     "                          fixed16 for lattice, full for rsa and relax, whose\n"
     "                          particles touch)\n"
     "  --save-container FILE   also write the container level set as its own .vdb\n"
@@ -186,5 +191,6 @@ int main(int argc, char **argv) {
     if (!strcmp(cmd, "info")) return cmd_info(argc - 2, argv + 2);
     if (!strcmp(cmd, "check")) return vp_cli_check(argc - 2, argv + 2);
     if (!strcmp(cmd, "render")) return vp_cli_render(argc - 2, argv + 2);
+    if (!strcmp(cmd, "convert")) return vp_cli_convert(argc - 2, argv + 2);
     return vp_cli_die(2, "unknown command '%s' (see vdbpack --help)", cmd);
 }

@@ -14,6 +14,8 @@
 typedef struct pack_opts {
     const char *container;
     const char *output;
+    const char *format;     /* --format, or NULL: by the output's extension */
+    int out_format;         /* vp_format of the output */
     const char *method;
     vp_shape shape;
     const char *shape_file; /* --shape FILE: a mesh (shape == VP_SHAPE_MESH) */
@@ -105,6 +107,9 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax");
     if (!rsa && o->count_max)
         return vp_cli_die(2, "pack: --count max goes with --method rsa");
+    if (o->shape == VP_SHAPE_MESH && o->preview)
+        return vp_cli_die(2, "pack: --preview does not render mesh shapes in this version (%s)",
+                          o->shape_file);
     if (o->shape == VP_SHAPE_MESH && !rsa)
         return vp_cli_die(2, "pack: a mesh --shape (%s) packs with --method rsa in this version",
                           o->shape_file);
@@ -199,6 +204,9 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
         if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             VALUE();
             o->output = v;
+        } else if (!strcmp(a, "--format")) {
+            VALUE();
+            o->format = v;
         } else if (!strcmp(a, "--method")) {
             VALUE();
             if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0)
@@ -343,7 +351,9 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     }
     if (!o->container) return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
-    int rc = check_method_options(o, have_radius, have_count);
+    int rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
+    if (rc) return rc;
+    rc = check_method_options(o, have_radius, have_count);
     if (rc) return rc;
     return 0;
 }
@@ -784,7 +794,7 @@ int vp_cli_pack(int argc, char **argv) {
     wp.full_precision = o.full_precision;
     wp.meta = meta;
     wp.meta_count = nmeta;
-    if (vp_write_points(ctx, o.output, p, &wp) != VP_OK) {
+    if (vp_cli_write_particles(ctx, o.output, o.out_format, p, &wp, o.quiet) != 0) {
         status = lib_error(ctx);
         goto done;
     }

@@ -594,6 +594,10 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: a %dx%d image needs more memory than "
                                                   "the limit", rp.width, rp.height);
 
+    if (p->shape == VP_SHAPE_MESH)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "render: particles of a mesh shape are not rendered in this version "
+                       "(export them with -o OUT.obj, or instance --shape-out's mesh)");
     scene S;
     memset(&S, 0, sizeof S);
     S.p = p;

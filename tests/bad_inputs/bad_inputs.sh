@@ -388,6 +388,129 @@ fi
 expect_error "pack --preview: unknown image type" "--preview.*'p\.tif'" "" -- pack sphere:1 --radius 0.2 -o out.vdb --preview p.tif
 expect_error "pack --preview: unwritable (no .vdb left either)" "nonexistent-dir" "" -- pack sphere:1 --radius 0.2 -o out.vdb --preview /nonexistent-dir/p.png
 
+# --- export formats (issue 6): -o by extension or --format, vdbpack convert
+"$VDBPACK" pack box:1,1,1 --method rsa --shape cube --radius 0.1 --count 20 -o solids.vdb -q
+"$VDBPACK" convert solids.vdb good.ply -q
+"$VDBPACK" convert solids.vdb good.csv -q
+"$VDBPACK" pack box:1,1,1 --radius 0.1 -o spheres.csv -q
+HAVE_ZERO=0
+if command -v vdb_ax >/dev/null &&
+    env OPENVDB_DISABLE_DELAYED_LOAD=1 vdb_ax -i points.vdb -s 'deletepoint();' -o zero.vdb >/dev/null 2>&1; then
+    HAVE_ZERO=1  # a points grid with every point deleted by OpenVDB's own vdb_ax
+fi
+# corrupt PLY and CSV variants of good.ply / good.csv (20 cubes, 37-byte records)
+$PY - <<'PY'
+import struct
+data = open("good.ply", "rb").read()
+h = data.index(b"end_header\n") + len(b"end_header\n")
+head, body = data[:h], bytearray(data[h:])
+def rec(i, off, fmt, v):
+    b = bytearray(body); struct.pack_into(fmt, b, 37 * i + off, v); return head + bytes(b)
+out = {
+    "nan_x.ply": rec(3, 0, "<f", float("nan")),
+    "inf_z.ply": rec(5, 8, "<f", float("inf")),
+    "neg_pscale.ply": rec(2, 12, "<f", -0.1),
+    "zero_pscale.ply": rec(2, 12, "<f", 0.0),
+    "dup_id.ply": rec(4, 16, "<i", 1),
+    "big_id.ply": rec(4, 16, "<i", 1000),
+    "zero_quat.ply": rec(6, 20, "<ffff", 0.0) if False else head + bytes(body[:37 * 6 + 20]) + bytes(16) + bytes(body[37 * 6 + 36:]),
+    "big_group.ply": rec(7, 36, "<B", 200),
+    "truncated_data.ply": data[:-10],
+    "trailing.ply": data + b"\0" * 37,
+    "ascii.ply": data.replace(b"binary_little_endian", b"ascii", 1),
+    "big_endian.ply": data.replace(b"binary_little_endian", b"binary_big_endian", 1),
+    "not_ply.ply": b"plx" + data[3:],
+    "no_end_header.ply": head.replace(b"end_header\n", b""),
+    "huge_count.ply": data.replace(b"element vertex 20\n", b"element vertex 2000000000\n", 1),
+    "bad_shape.ply": data.replace(b"comment shape cube", b"comment shape blob", 1),
+    "face_element.ply": data.replace(b"end_header\n", b"element face 0\nproperty list uchar int vertex_indices\nend_header\n", 1),
+    "no_pscale.ply": data.replace(b"property float pscale\n", b"property float radius\n", 1),
+}
+for k, v in out.items():
+    open(k, "wb").write(v)
+lines = open("good.csv").read().split("\n")
+def row(i, col, val):
+    l = list(lines); f = l[i].split(","); f[col] = val; l[i] = ",".join(f); return "\n".join(l)
+csv = {
+    "bad_header.csv": "\n".join(["id,x,y,z,radius,qx,qy,qz,qw,group"] + lines[1:]),
+    "nan.csv": row(3, 1, "nan"),
+    "inf.csv": row(3, 2, "inf"),
+    "neg_pscale.csv": row(4, 4, "-0.1"),
+    "text_number.csv": row(4, 3, "0.5abc"),
+    "missing_field.csv": "\n".join(lines[:5] + [",".join(lines[5].split(",")[:-2] + [lines[5].split(",")[-1]])] + lines[6:]),
+    "extra_field.csv": "\n".join(lines[:5] + [lines[5] + ",x"] + lines[6:]),
+    "no_newline.csv": "\n".join(lines).rstrip("\n")[:-3],
+    "big_id.csv": row(2, 0, "99"),
+    "dup_id.csv": row(2, 0, "0"),
+    "bad_group.csv": row(2, 9, "pass 1"),
+    "bad_quat.csv": row(2, 5, "3"),
+    "empty.csv": "",
+}
+for k, v in csv.items():
+    open(k, "w").write(v)
+PY
+
+expect_error "pack -o with an unknown extension" "out\.xyz.*extension" "" -- pack sphere:1 --radius 0.1 -o out.xyz
+expect_error "pack -o without an extension" "extension" "" -- pack sphere:1 --radius 0.1 -o out
+expect_error "pack --format zz" "format.*zz" "" -- pack sphere:1 --radius 0.1 -o out.vdb --format zz
+expect_error "pack -o .obj past the file-size limit" "out\.obj.*(too large|writing failed)" "" -- pack sphere:1 --radius 0.1 -o out.obj --ulimit-f 16
+expect_error "convert: missing input" "nothere\.vdb" "" -- convert ../nothere.vdb out.ply
+expect_error "convert: missing ply" "nothere\.ply.*(no such|cannot open)" "" -- convert ../nothere.ply out.csv
+expect_error "convert: no points grid" "cube_ls\.vdb.*point" "" -- convert ../cube_ls.vdb out.ply
+expect_error "convert: truncated vdb" "truncated\.vdb" "" -- convert ../truncated.vdb out.ply
+if [ "$HAVE_ZERO" = 1 ]; then
+    expect_error "convert: zero particles" "zero\.vdb.*no particles" "" -- convert ../zero.vdb out.ply
+else
+    echo "--- convert: zero particles: skipped (no vdb_ax)"
+fi
+expect_error "convert: OBJ input" "cube\.obj.*\.vdb, \.ply or \.csv" "" -- convert ../cube.obj out.ply
+expect_error "convert: unknown input extension" "afile" "" -- convert ../afile out.ply
+expect_error "convert: unknown output extension" "out\.xyz.*extension" "" -- convert ../good.ply out.xyz
+expect_error "convert: --format zz" "format.*zz" "" -- convert ../good.ply out.csv --format zz
+expect_error "convert: one file" "input and an output" "" -- convert ../good.ply
+expect_error "convert: three files" "more than two" "" -- convert ../good.ply a.csv b.csv
+expect_error "convert: unknown option" "--frobnicate" "" -- convert ../good.ply out.csv --frobnicate
+expect_error "convert: unwritable output" "nonexistent-dir" "" -- convert ../good.ply /nonexistent-dir/out.csv
+expect_error "convert: output is a directory" "adir.*directory" "" -- convert ../good.ply ../adir --format csv
+expect_error "convert: csv with orient, no --shape" "good\.csv.*--shape" "" -- convert ../good.csv out.vdb
+expect_error "convert: --shape with a ply" "--shape" "" -- convert ../good.ply out.csv --shape cube
+expect_error "convert: --shape blob" "blob" "" -- convert ../good.csv out.vdb --shape blob
+expect_error "convert: --precision half" "precision.*half" "" -- convert ../good.ply out.vdb --precision half
+expect_error "convert: obj past the file-size limit" "out\.obj.*(too large|writing failed)" "" -- convert ../spheres.csv out.obj --ulimit-f 8
+expect_error "convert: ply NaN x" "nan_x\.ply.*vertex 3.*not finite" "" -- convert ../nan_x.ply out.csv
+expect_error "convert: ply inf z" "inf_z\.ply.*vertex 5.*not finite" "" -- convert ../inf_z.ply out.csv
+expect_error "convert: ply pscale < 0" "neg_pscale\.ply.*pscale" "" -- convert ../neg_pscale.ply out.csv
+expect_error "convert: ply pscale 0" "zero_pscale\.ply.*pscale" "" -- convert ../zero_pscale.ply out.csv
+expect_error "convert: ply duplicate id" "dup_id\.ply.*twice" "" -- convert ../dup_id.ply out.csv
+expect_error "convert: ply id out of range" "big_id\.ply.*id 1000" "" -- convert ../big_id.ply out.csv
+expect_error "convert: ply zero quaternion" "zero_quat\.ply.*unit quaternion" "" -- convert ../zero_quat.ply out.csv
+expect_error "convert: ply group 200" "big_group\.ply.*group 200" "" -- convert ../big_group.ply out.csv
+expect_error "convert: ply truncated data" "truncated_data\.ply.*truncated" "" -- convert ../truncated_data.ply out.csv
+expect_error "convert: ply trailing data" "trailing\.ply.*trailing" "" -- convert ../trailing.ply out.csv
+expect_error "convert: ascii ply" "ascii\.ply.*ascii" "" -- convert ../ascii.ply out.csv
+expect_error "convert: big-endian ply" "big_endian\.ply.*binary_big_endian" "" -- convert ../big_endian.ply out.csv
+expect_error "convert: not a ply" "not_ply\.ply.*not a PLY" "" -- convert ../not_ply.ply out.csv
+expect_error "convert: ply without end_header" "no_end_header\.ply.*end_header" "" -- convert ../no_end_header.ply out.csv
+expect_error "convert: ply count beyond the file" "huge_count\.ply.*truncated" 2 -- convert ../huge_count.ply out.csv
+expect_error "convert: ply unknown shape" "bad_shape\.ply.*blob" "" -- convert ../bad_shape.ply out.csv
+expect_error "convert: ply face element" "face_element\.ply.*element" "" -- convert ../face_element.ply out.csv
+expect_error "convert: ply without pscale" "no_pscale\.ply.*pscale" "" -- convert ../no_pscale.ply out.csv
+cp random.obj random_bytes.ply
+expect_error "convert: ply random bytes" "random_bytes\.ply" "" -- convert ../random_bytes.ply out.csv
+expect_error "convert: csv bad header" "bad_header\.csv.*header" "" -- convert ../bad_header.csv out.ply
+expect_error "convert: csv NaN" "nan\.csv.*line 4.*not finite" "" -- convert ../nan.csv out.ply --shape cube
+expect_error "convert: csv inf" "inf\.csv.*line 4.*not finite" "" -- convert ../inf.csv out.ply --shape cube
+expect_error "convert: csv pscale < 0" "neg_pscale\.csv.*pscale" "" -- convert ../neg_pscale.csv out.ply --shape cube
+expect_error "convert: csv text in a number" "text_number\.csv.*0\.5abc" "" -- convert ../text_number.csv out.ply --shape cube
+expect_error "convert: csv missing field" "missing_field\.csv.*line 6.*fields" "" -- convert ../missing_field.csv out.ply --shape cube
+expect_error "convert: csv extra field" "extra_field\.csv.*line 6.*fields" "" -- convert ../extra_field.csv out.ply --shape cube
+expect_error "convert: csv cut in its last line" "no_newline\.csv.*truncated" "" -- convert ../no_newline.csv out.ply --shape cube
+expect_error "convert: csv id out of range" "big_id\.csv.*id 99" "" -- convert ../big_id.csv out.ply --shape cube
+expect_error "convert: csv duplicate id" "dup_id\.csv.*twice" "" -- convert ../dup_id.csv out.ply --shape cube
+expect_error "convert: csv bad group name" "bad_group\.csv.*group" "" -- convert ../bad_group.csv out.ply --shape cube
+expect_error "convert: csv non-unit quaternion" "bad_quat\.csv.*unit quaternion" "" -- convert ../bad_quat.csv out.ply --shape cube
+expect_error "convert: empty csv" "empty\.csv.*empty" "" -- convert ../empty.csv out.ply
+
 # a failed pack must not clobber an existing output file
 echo "--- existing output survives a failure"
 echo keep >keep.vdb
@@ -396,7 +519,7 @@ echo keep >keep.vdb
 ls -a | grep -q '\.keep\.vdb\.tmp' && fail "hidden temp file left beside keep.vdb"
 
 # --- help and version ------------------------------------------------------------
-for args in "--help" "pack --help" "info --help" "render --help" "--version"; do
+for args in "--help" "pack --help" "info --help" "render --help" "convert --help" "--version"; do
     echo "--- vdbpack $args"
     rc=0
     # shellcheck disable=SC2086

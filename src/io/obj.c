@@ -1,0 +1,212 @@
+/* OBJ: every particle's surface as a mesh (write only): the unit shape of
+ * core/shape.h (spheres: an icosphere, each icosahedron edge split in n),
+ * scaled by pscale, rotated by orient and moved to P. One object (o/g) per
+ * group; inside one, particles in id order, each with its vertices then its
+ * faces (counter-clockwise seen from outside). */
+#include "io/io_internal.h"
+#include "core/context.h"
+#include "core/geom.h"
+#include "core/mesh_shape.h"
+#include "core/shape.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct unit_mesh {
+    int nv, nf;
+    double (*v)[3];
+    int (*f)[5];
+    int *fsize;
+} unit_mesh;
+
+static void unit_free(unit_mesh *m) {
+    free(m->v);
+    free(m->f);
+    free(m->fsize);
+}
+
+static int clamp_subdiv(int n) { return n <= 0 ? 2 : n > 16 ? 16 : n; }
+
+int vp_export_obj_counts(vp_shape s, int n, int *verts, int *faces) {
+    if (!vp_shape_name(s)) return -1;
+    if (s == VP_SHAPE_SPHERE) {
+        n = clamp_subdiv(n);
+        *verts = 10 * n * n + 2;
+        *faces = 20 * n * n;
+        return 0;
+    }
+    const vp_polyhedron *p = vp_shape_polyhedron(s);
+    if (!p) return -1;
+    *verts = p->nverts;
+    *faces = p->nfaces;
+    return 0;
+}
+
+/* Welded icosphere: each icosahedron face on a barycentric grid of n
+ * steps, points projected to the unit sphere, shared edge points merged. */
+static int build_sphere(unit_mesh *m, int n) {
+    const vp_polyhedron *ico = vp_shape_polyhedron(VP_SHAPE_ICOSAHEDRON);
+    int maxv = 10 * n * n + 2, maxf = 20 * n * n;
+    m->v = malloc(sizeof *m->v * (size_t)maxv);
+    m->f = malloc(sizeof *m->f * (size_t)maxf);
+    m->fsize = malloc(sizeof *m->fsize * (size_t)maxf);
+    int *idx = malloc(sizeof(int) * (size_t)((n + 1) * (n + 1)));
+    if (!ico || !m->v || !m->f || !m->fsize || !idx) {
+        free(idx);
+        return -1;
+    }
+    m->nv = m->nf = 0;
+    for (int fi = 0; fi < ico->nfaces; fi++) {
+        const double *a = ico->verts[ico->faces[fi][0]], *b = ico->verts[ico->faces[fi][1]],
+                     *c = ico->verts[ico->faces[fi][2]];
+        for (int i = 0; i <= n; i++)
+            for (int j = 0; j <= n - i; j++) {
+                double u = (double)i / n, v = (double)j / n, w = 1 - u - v, p[3];
+                for (int k = 0; k < 3; k++) p[k] = w * a[k] + u * b[k] + v * c[k];
+                double l = vp_norm3(p);
+                for (int k = 0; k < 3; k++) p[k] /= l;
+                int found = -1;
+                for (int e = 0; e < m->nv && found < 0; e++) {
+                    double d[3] = {m->v[e][0] - p[0], m->v[e][1] - p[1], m->v[e][2] - p[2]};
+                    if (vp_dot3(d, d) < 1e-18) found = e;
+                }
+                if (found < 0) {
+                    if (m->nv == maxv) {
+                        free(idx);
+                        return -1;
+                    }
+                    memcpy(m->v[m->nv], p, sizeof p);
+                    found = m->nv++;
+                }
+                idx[i * (n + 1) + j] = found;
+            }
+#define AT(i, j) idx[(i) * (n + 1) + (j)]
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n - i; j++) {
+                int *t = m->f[m->nf];
+                m->fsize[m->nf++] = 3;
+                t[0] = AT(i, j), t[1] = AT(i + 1, j), t[2] = AT(i, j + 1);
+                if (j + 1 < n - i) {
+                    t = m->f[m->nf];
+                    m->fsize[m->nf++] = 3;
+                    t[0] = AT(i + 1, j), t[1] = AT(i + 1, j + 1), t[2] = AT(i, j + 1);
+                }
+            }
+#undef AT
+    }
+    free(idx);
+    return m->nv == maxv && m->nf == maxf ? 0 : -1;
+}
+
+static int build_unit(unit_mesh *m, vp_shape s, const vp_mesh_shape *mesh, int n) {
+    memset(m, 0, sizeof *m);
+    if (s == VP_SHAPE_SPHERE) return build_sphere(m, n);
+    if (s == VP_SHAPE_MESH) { /* the normalised mesh, as --shape-out writes it */
+        if (!mesh || mesh->nverts > INT32_MAX || mesh->ntris > INT32_MAX) return -1;
+        m->nv = (int)mesh->nverts;
+        m->nf = (int)mesh->ntris;
+        m->v = malloc(sizeof *m->v * (size_t)m->nv);
+        m->f = malloc(sizeof *m->f * (size_t)m->nf);
+        m->fsize = malloc(sizeof *m->fsize * (size_t)m->nf);
+        if (!m->v || !m->f || !m->fsize) return -1;
+        memcpy(m->v, mesh->verts, sizeof *m->v * (size_t)m->nv);
+        for (int i = 0; i < m->nf; i++) {
+            m->fsize[i] = 3;
+            for (int k = 0; k < 3; k++) m->f[i][k] = (int)mesh->tris[3 * (size_t)i + k];
+        }
+        return 0;
+    }
+    const vp_polyhedron *p = vp_shape_polyhedron(s);
+    if (!p) return -1;
+    m->nv = p->nverts;
+    m->nf = p->nfaces;
+    m->v = malloc(sizeof *m->v * (size_t)m->nv);
+    m->f = malloc(sizeof *m->f * (size_t)m->nf);
+    m->fsize = malloc(sizeof *m->fsize * (size_t)m->nf);
+    if (!m->v || !m->f || !m->fsize) return -1;
+    memcpy(m->v, p->verts, sizeof *m->v * (size_t)m->nv);
+    for (int i = 0; i < m->nf; i++) {
+        m->fsize[i] = p->face_size[i];
+        memcpy(m->f[i], p->faces[i], sizeof m->f[i]);
+    }
+    return 0;
+}
+
+vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *p,
+                         const vp_export_params *params) {
+    vp_result r = vpio_check_particles(ctx, path, p);
+    if (r != VP_OK) return r;
+    if (!vp_shape_name(p->shape))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: unknown particle shape", path);
+    int n = clamp_subdiv(params->sphere_subdivisions);
+    unit_mesh m;
+    if (p->shape == VP_SHAPE_MESH && !p->mesh)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "%s: the particles are of a mesh shape and the mesh is not loaded", path);
+    if (build_unit(&m, p->shape, p->mesh, n) != 0) {
+        unit_free(&m);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for the unit shape", path);
+    }
+    vpio_out o;
+    if ((r = vpio_open(ctx, path, &o)) != VP_OK) {
+        unit_free(&m);
+        return r;
+    }
+    FILE *f = o.f;
+    fprintf(f, "# vdbpack %s: %zu %s%s, each %d vertices and %d faces, one object per group;\n"
+               "# in each object, particles in id order, each its vertices then its faces\n",
+            VP_VERSION_STRING, p->count, vp_shape_name(p->shape), p->count == 1 ? "" : "s", m.nv,
+            m.nf);
+    for (size_t i = 0; i < params->vdb.meta_count; i++) {
+        const vp_meta *mt = &params->vdb.meta[i];
+        fprintf(f, "# %s: ", mt->key ? mt->key : "");
+        if (mt->type == VP_META_STRING) {
+            for (const char *c = mt->s ? mt->s : ""; *c; c++)
+                fputc((*c == '\n' || *c == '\r') ? ' ' : *c, f);
+        } else if (mt->type == VP_META_INT) {
+            fprintf(f, "%lld", (long long)mt->i);
+        } else {
+            fprintf(f, "%.17g", mt->d);
+        }
+        fputc('\n', f);
+    }
+    unsigned long long base = 1; /* OBJ indices are 1-based and global */
+    int cancelled = 0;
+    for (unsigned g = 0; g < p->group_count && !ferror(f) && !cancelled; g++) {
+        int any = 0;
+        for (size_t i = 0; i < p->count && !ferror(f); i++) {
+            if (vpio_group(p, i) != g) continue;
+            if (!any) {
+                fprintf(f, "o %s\ng %s\n", p->group_names[g], p->group_names[g]);
+                any = 1;
+            }
+            if ((i & 0xffff) == 0 &&
+                !vp_report_progress(ctx, (double)i / (double)p->count, "writing OBJ")) {
+                cancelled = 1;
+                break;
+            }
+            double q[4] = {0, 0, 0, 1}, s = vpio_radius(p, i);
+            if (p->has_orient) vp_quat_from_float(vpio_orient(p, i), q);
+            const double *c = p->positions + 3 * i;
+            for (int k = 0; k < m.nv; k++) {
+                double w[3];
+                vp_quat_rotate(q, m.v[k], w);
+                fprintf(f, "v %.9g %.9g %.9g\n", c[0] + s * w[0], c[1] + s * w[1], c[2] + s * w[2]);
+            }
+            for (int k = 0; k < m.nf; k++) {
+                fputc('f', f);
+                for (int e = 0; e < m.fsize[k]; e++) fprintf(f, " %llu", base + (unsigned long long)m.f[k][e]);
+                fputc('\n', f);
+            }
+            base += (unsigned long long)m.nv;
+        }
+    }
+    unit_free(&m);
+    if (cancelled) {
+        vpio_close(ctx, &o, 1);
+        return vp_fail(ctx, VP_ERR_CANCELLED, "%s: cancelled", path);
+    }
+    return vpio_close(ctx, &o, 0);
+}
