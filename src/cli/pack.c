@@ -107,9 +107,6 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax");
     if (!rsa && o->count_max)
         return vp_cli_die(2, "pack: --count max goes with --method rsa");
-    if (o->shape == VP_SHAPE_MESH && o->preview)
-        return vp_cli_die(2, "pack: --preview does not render mesh shapes in this version (%s)",
-                          o->shape_file);
     if (o->shape == VP_SHAPE_MESH && !rsa)
         return vp_cli_die(2, "pack: a mesh --shape (%s) packs with --method rsa in this version",
                           o->shape_file);

@@ -31,6 +31,8 @@ const char *VP_RENDER_HELP =
     "  --cut AXIS:VALUE        remove everything where x, y or z > VALUE; particles\n"
     "                          crossing the plane show their cut faces\n"
     "  --ao N                  ambient-occlusion rays per pixel (default 8, 0..64)\n"
+    "  --shape FILE            the particle mesh, for packings of a mesh shape (the\n"
+    "                          one given to pack --shape; required for them)\n"
     "  --threads N             worker threads (default: all cores); the image does\n"
     "                          not depend on it\n"
     "  -q, --quiet             print nothing but errors\n"
@@ -118,7 +120,7 @@ static int on_progress(void *user, double fraction, const char *stage) {
 }
 
 int vp_cli_render(int argc, char **argv) {
-    const char *file = NULL, *out = NULL;
+    const char *file = NULL, *out = NULL, *shape_file = NULL;
     int quiet = 0, view_set = 0, camera_set = 0;
     uint64_t threads = 0;
     vp_render_params rp;
@@ -174,6 +176,9 @@ int vp_cli_render(int argc, char **argv) {
             if (parse_cut(v, &rp) != 0)
                 return vp_cli_die(2, "render: --cut must be AXIS:VALUE with AXIS x, y or z "
                                      "(e.g. x:0.5), not '%s'", v);
+        } else if (!strcmp(a, "--shape")) {
+            NEED();
+            shape_file = v;
         } else if (!strcmp(a, "--ao")) {
             NEED();
             uint64_t n;
@@ -211,6 +216,7 @@ int vp_cli_render(int argc, char **argv) {
     vp_context_set_progress(ctx, on_progress, NULL);
     int status = 1;
     vp_particles *p = NULL;
+    vp_mesh_shape *mesh = NULL;
     if (vp_read_points(ctx, file, &p) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
@@ -218,6 +224,21 @@ int vp_cli_render(int argc, char **argv) {
     if (p->count == 0) {
         status = vp_cli_die(1, "%s: the points grid holds no particles: nothing to render", file);
         goto done;
+    }
+    if ((p->shape == VP_SHAPE_MESH) != (shape_file != NULL)) {
+        status = vp_cli_die(2, shape_file ? "render: --shape is for packings of a mesh shape; %s "
+                                            "holds another shape"
+                                          : "render: %s holds particles of a mesh shape: give "
+                                            "the mesh with --shape FILE",
+                            file);
+        goto done;
+    }
+    if (shape_file) {
+        if (vp_mesh_shape_load(ctx, shape_file, &mesh) != VP_OK) {
+            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+            goto done;
+        }
+        p->mesh = mesh;
     }
     if (vp_cli_render_particles(ctx, p, &rp, out) != 0) {
         status = vp_cli_interrupted() ? vp_cli_interrupted_exit()
@@ -236,6 +257,7 @@ int vp_cli_render(int argc, char **argv) {
     status = 0;
 done:
     vp_particles_destroy(p);
+    vp_mesh_shape_destroy(mesh);
     vp_context_destroy(ctx);
     return status;
 }

@@ -301,6 +301,69 @@ int vp_mesh_shape_contains(const vp_mesh_shape *m, const double p[3]) {
     return in >= 2;
 }
 
+int vp_mesh_shape_ray(const vp_mesh_shape *m, const double o[3], const double d[3], double tmin,
+                      double tmax, double *t_hit, double n_out[3]) {
+    double inv[3];
+    for (int k = 0; k < 3; k++) inv[k] = 1.0 / d[k];
+    uint32_t stack[128];
+    int sp = 0, found = 0;
+    stack[sp++] = 0;
+    double best = tmax;
+    while (sp) {
+        const vp_bvh_node *n = &m->nodes[stack[--sp]];
+        /* slab test limited to (tmin, best) */
+        double t0 = tmin, t1 = best;
+        int miss = 0;
+        for (int k = 0; k < 3 && !miss; k++) {
+            double a = (n->lo[k] - o[k]) * inv[k], b = (n->hi[k] - o[k]) * inv[k];
+            if (a > b) {
+                double x = a;
+                a = b;
+                b = x;
+            }
+            if (a > t0) t0 = a;
+            if (b < t1) t1 = b;
+            if (t0 > t1) miss = 1;
+        }
+        if (miss) continue;
+        if (n->count == 0) {
+            if (sp + 2 > 128) continue;
+            stack[sp++] = n->first;
+            stack[sp++] = n->first + 1;
+            continue;
+        }
+        for (uint32_t i = 0; i < n->count; i++) {
+            const uint32_t *t = m->tris + 3 * (size_t)m->order[n->first + i];
+            const double *p0 = m->verts + 3 * (size_t)t[0], *p1 = m->verts + 3 * (size_t)t[1],
+                         *p2 = m->verts + 3 * (size_t)t[2];
+            double e1[3], e2[3], pv[3], tv[3], qv[3];
+            sub3(p1, p0, e1);
+            sub3(p2, p0, e2);
+            vp_cross3(d, e2, pv);
+            double det = vp_dot3(e1, pv);
+            if (det == 0.0) continue;
+            double id = 1.0 / det;
+            sub3(o, p0, tv);
+            double u = vp_dot3(tv, pv) * id;
+            if (u < 0.0 || u > 1.0) continue;
+            vp_cross3(tv, e1, qv);
+            double v = vp_dot3(d, qv) * id;
+            if (v < 0.0 || u + v > 1.0) continue;
+            double th = vp_dot3(e2, qv) * id;
+            if (th > tmin && th < best) {
+                best = th;
+                found = 1;
+                vp_cross3(e1, e2, n_out);
+            }
+        }
+    }
+    if (!found) return 0;
+    double l = vp_norm3(n_out);
+    for (int k = 0; k < 3; k++) n_out[k] /= l;
+    *t_hit = best;
+    return 1;
+}
+
 /* --- overlap of two placed copies ---------------------------------------------------- */
 
 typedef struct pair_frame {

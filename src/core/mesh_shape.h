@@ -55,6 +55,12 @@ int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
                           const double ta[3], double sb, const double qb[4], const double tb[3],
                           double *depth);
 
+/* Nearest crossing of the ray o + t d (unit-shape coordinates, d of any
+ * length) with the surface for tmin < t < tmax: 1 with *t_hit and the
+ * triangle's outward unit normal (unit-shape frame), or 0. */
+int vp_mesh_shape_ray(const vp_mesh_shape *m, const double o[3], const double d[3], double tmin,
+                      double tmax, double *t_hit, double n_out[3]);
+
 /* 1 if unit-shape point p is inside the mesh (ray parity, the majority of
  * three directions). */
 int vp_mesh_shape_contains(const vp_mesh_shape *m, const double p[3]);

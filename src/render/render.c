@@ -15,6 +15,7 @@
 #include "core/context.h"
 #include "core/geom.h"
 #include "core/parallel.h"
+#include "core/mesh_shape.h"
 #include "core/shape.h"
 
 void vp_render_params_init(vp_render_params *p) {
@@ -42,7 +43,8 @@ void vp_image_destroy(vp_image *img) {
 
 typedef struct scene {
     const vp_particles *p;
-    const vp_polyhedron *poly; /* NULL: spheres */
+    const vp_polyhedron *poly; /* NULL: spheres (or a mesh) */
+    const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
     double inradius;
     int cut_axis;
     double cut_value;
@@ -234,6 +236,29 @@ static void intersect(const scene *S, uint32_t i, const double o[3], const doubl
     double t0 = -b - sq, t1 = -b + sq;
     if (t1 <= tmin || t0 >= h->t) return;
     double n[3];
+    if (S->mesh) {
+        /* in the shape's frame; a particle crossing the cut plane shows its
+         * surface up to the plane, open (no cut face: a concave shape has
+         * no single interval along the ray) */
+        double q[4], m[3][3];
+        if (S->p->orients) vp_quat_from_float(S->p->orients + 4 * (size_t)i, q);
+        else vp_quat_from_float(S->p->uniform_orient, q);
+        vp_quat_to_matrix(q, m);
+        double lo[3], ld[3], ln[3], th;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = (m[0][k] * oc[0] + m[1][k] * oc[1] + m[2][k] * oc[2]) / r;
+            ld[k] = (m[0][k] * d[0] + m[1][k] * d[1] + m[2][k] * d[2]) / r;
+        }
+        double ta = t0 > tmin ? t0 : tmin, tb = t1 < h->t ? t1 : h->t;
+        int cut;
+        if (!clip_cut(S, o, d, &ta, &tb, &cut)) return;
+        if (!vp_mesh_shape_ray(S->mesh, lo, ld, ta, tb, &th, ln)) return;
+        for (int k = 0; k < 3; k++) n[k] = m[k][0] * ln[0] + m[k][1] * ln[1] + m[k][2] * ln[2];
+        h->t = th;
+        h->idx = i;
+        memcpy(h->n, n, sizeof n);
+        return;
+    }
     if (!S->poly) {
         int cut;
         if (!clip_cut(S, o, d, &t0, &t1, &cut)) return;
@@ -594,14 +619,15 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: a %dx%d image needs more memory than "
                                                   "the limit", rp.width, rp.height);
 
-    if (p->shape == VP_SHAPE_MESH)
+    if (p->shape == VP_SHAPE_MESH && !p->mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "render: particles of a mesh shape are not rendered in this version "
-                       "(export them with -o OUT.obj, or instance --shape-out's mesh)");
+                       "render: the particles are of a mesh shape: give the mesh (vdbpack render "
+                       "--shape FILE)");
     scene S;
     memset(&S, 0, sizeof S);
     S.p = p;
     S.poly = p->has_orient || p->shape != VP_SHAPE_SPHERE ? vp_shape_polyhedron(p->shape) : NULL;
+    S.mesh = p->shape == VP_SHAPE_MESH ? p->mesh : NULL;
     S.inradius = S.poly ? S.poly->inradius : 1.0;
     S.cut_axis = rp.cut_axis;
     S.cut_value = rp.cut_value;
