@@ -201,35 +201,11 @@ set +e; "$VDBPACK" render tori.vdb -o tori.png >/dev/null 2>rend.err; st=$?; set
 "$VDBPACK" pack box:1,1,1 --method rsa --shape "$shp" --orient fixed --radius 0.4 --count 1 -o one.vdb -q &&
   "$VDBPACK" render one.vdb --shape "$shp" -o one.png --view front --size 201x201 --ao 0 -q ||
   die "render of one torus failed"
-"$PY" - one.png <<'PY' || exit 1
-import struct, sys, zlib
-data = open(sys.argv[1], "rb").read()
-assert data[:8] == b"\x89PNG\r\n\x1a\n"
-pos, idat, w = 8, b"", 0
-while pos < len(data):
-    n, typ = struct.unpack(">I4s", data[pos:pos + 8])
-    body = data[pos + 8:pos + 8 + n]
-    if typ == b"IHDR": w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
-    if typ == b"IDAT": idat += body
-    pos += 12 + n
-raw = zlib.decompress(idat)
-bpp = 4
-stride = w * bpp
-rows, prev = [], bytearray(stride)
-for y in range(h):
-    f = raw[y * (stride + 1)]
-    line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for x in range(stride):
-        a = line[x - bpp] if x >= bpp else 0
-        b = prev[x]
-        c = prev[x - bpp] if x >= bpp else 0
-        if f == 1: line[x] = (line[x] + a) & 255
-        elif f == 2: line[x] = (line[x] + b) & 255
-        elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
-        elif f == 4:
-            p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-            line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-    rows.append(line); prev = line
+"$PY" - one.png "$VP_SRC/tests/py" <<'PY' || exit 1
+import sys
+sys.path.insert(0, sys.argv[2])
+from png_read import read
+w, h, rows = read(sys.argv[1])
 alpha = lambda x, y: rows[y][x * 4 + 3]
 cx = cy = w // 2
 covered = sum(1 for y in range(h) for x in range(w) if alpha(x, y))

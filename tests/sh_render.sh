@@ -4,66 +4,23 @@
 # checked, filters undone); EXR contents are checked by test_render_exr
 # (OpenEXR's C++ API), here only that 1 and 2 threads give the same bytes.
 set -euo pipefail
-: "${VDBPACK:?}"
+: "${VDBPACK:?}" "${VP_SRC:?}"
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 cd "$W"
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
 
-cat >png.py <<'EOF'
-# png.py FILE: prints "W H" then, for queries "x y" on stdin, the RGBA there
-import struct, sys, zlib
-data = open(sys.argv[1], 'rb').read()
-assert data[:8] == b'\x89PNG\r\n\x1a\n', 'not a PNG signature'
-pos, idat, ihdr = 8, b'', None
-while pos < len(data):
-    n, kind = struct.unpack('>I4s', data[pos:pos + 8])
-    body = data[pos + 8:pos + 8 + n]
-    crc, = struct.unpack('>I', data[pos + 8 + n:pos + 12 + n])
-    assert zlib.crc32(kind + body) & 0xffffffff == crc, 'bad CRC in ' + kind.decode()
-    if kind == b'IHDR': ihdr = struct.unpack('>IIBBBBB', body)
-    if kind == b'IDAT': idat += body
-    pos += 12 + n
-w, h, depth, ctype, _, _, interlace = ihdr
-assert depth == 8 and ctype == 6 and interlace == 0, 'expected 8-bit RGBA, not interlaced'
-raw = zlib.decompress(idat)
-stride, bpp = 4 * w, 4
-rows, prev = [], bytearray(stride)
-for y in range(h):
-    f = raw[y * (stride + 1)]
-    line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for i in range(stride):
-        a = line[i - bpp] if i >= bpp else 0
-        b = prev[i]
-        c = prev[i - bpp] if i >= bpp else 0
-        if f == 1: line[i] = (line[i] + a) & 255
-        elif f == 2: line[i] = (line[i] + b) & 255
-        elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-        elif f == 4:
-            p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-            line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-    rows.append(line)
-    prev = line
-print(w, h)
-mode = sys.argv[2] if len(sys.argv) > 2 else 'points'
-if mode == 'columns':
-    # "covered" for every column: how many pixels in it have alpha > 0
-    print(' '.join(str(sum(1 for y in range(h) if rows[y][4 * x + 3])) for x in range(w)))
-else:
-    for q in sys.stdin:
-        x, y = map(int, q.split())
-        print(*rows[y][4 * x:4 * x + 4])
-EOF
+png_py="$VP_SRC/tests/py/png_read.py"
 
 "$VDBPACK" pack box:1,1,1 --radius 0.1 -o box.vdb -q --preview prev.png
 [ -s box.vdb ] || bad "pack --preview: no box.vdb"
-out=$(python3 png.py prev.png </dev/null) || bad "pack --preview: unreadable PNG"
+out=$(python3 "$png_py" prev.png </dev/null) || bad "pack --preview: unreadable PNG"
 [ "$out" = "960 540" ] || bad "pack --preview: size '$out', expected the default 960x540"
 
 # front view, 320x200: the corners are background, the centre is a particle
 "$VDBPACK" render box.vdb -o front.png --size 320x200 --view front -q
-out=$(printf '0 0\n319 0\n0 199\n319 199\n160 100\n' | python3 png.py front.png)
+out=$(printf '0 0\n319 0\n0 199\n319 199\n160 100\n' | python3 "$png_py" front.png)
 echo "front.png: $(echo "$out" | tr '\n' '|')"
 [ "$(echo "$out" | sed -n 1p)" = "320 200" ] || bad "front.png: size $(echo "$out" | sed -n 1p)"
 for k in 2 3 4 5; do
@@ -77,8 +34,8 @@ centre=$(echo "$out" | sed -n 6p)
 # the centre column; without the cut, the right half is covered too
 "$VDBPACK" render box.vdb -o nocut.png --size 200x200 --camera 0,0,4:0,0,0 -q
 "$VDBPACK" render box.vdb -o cut.png --size 200x200 --camera 0,0,4:0,0,0 --cut x:0 -q
-right() { python3 png.py "$1" columns </dev/null | sed -n 2p | awk '{s = 0; for (i = 102; i <= NF; i++) s += $i; print s}'; }
-left() { python3 png.py "$1" columns </dev/null | sed -n 2p | awk '{s = 0; for (i = 1; i <= 99; i++) s += $i; print s}'; }
+right() { python3 "$png_py" "$1" columns </dev/null | sed -n 2p | awk '{s = 0; for (i = 102; i <= NF; i++) s += $i; print s}'; }
+left() { python3 "$png_py" "$1" columns </dev/null | sed -n 2p | awk '{s = 0; for (i = 1; i <= 99; i++) s += $i; print s}'; }
 echo "covered pixels right of the centre: no cut $(right nocut.png), cut x:0 $(right cut.png); left: $(left nocut.png) / $(left cut.png)"
 [ "$(right nocut.png)" -gt 1000 ] || bad "nocut.png: right half empty"
 [ "$(right cut.png)" = 0 ] || bad "cut.png: particles beyond the cut plane are drawn"

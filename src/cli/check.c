@@ -135,26 +135,13 @@ int vp_cli_check(int argc, char **argv) {
             if (x > 0 && isfinite(x)) voxel = x;
         }
     }
-    if (p->shape == VP_SHAPE_MESH && !shape_file) {
+    {
         const char *sf = desc ? meta_value(desc, "shape_file") : NULL;
         char name[256] = "";
         if (sf && *sf == '"') sscanf(sf + 1, "%255[^\"]", name);
-        status = vp_cli_die(2, "check: %s holds particles of a mesh shape%s%s%s: give the mesh "
-                               "with --shape FILE", file, name[0] ? " (" : "", name,
-                            name[0] ? ")" : "");
-        goto done;
-    }
-    if (shape_file && p->shape != VP_SHAPE_MESH) {
-        status = vp_cli_die(2, "check: --shape is for packings of a mesh shape; %s holds %ss",
-                            file, vp_shape_name(p->shape));
-        goto done;
-    }
-    if (shape_file) {
-        if (vp_mesh_shape_load(ctx, shape_file, &mesh) != VP_OK) {
-            status = vp_cli_die(1, "%s", vp_context_message(ctx));
+        if ((status = vp_cli_attach_mesh(ctx, "check", file, name, shape_file, p, &mesh)) != 0)
             goto done;
-        }
-        p->mesh = mesh;
+        status = 1;
     }
     double rmax = p->uniform_radius;
     if (p->radii)

@@ -74,6 +74,15 @@ struct vp_write_params;
 int vp_cli_write_particles(struct vp_context *ctx, const char *path, int format,
                            const struct vp_particles *p, const struct vp_write_params *wp,
                            int quiet);
+/* For a packing p read from file by cmd: with a mesh shape, loads
+ * shape_file (required; `recorded` is the name the file's metadata gives,
+ * or "") into *mesh (owned by the caller) and points p->mesh at it; refuses
+ * --shape for other shapes. 0, or the exit status after one line. */
+struct vp_particles;
+struct vp_mesh_shape;
+int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file,
+                       const char *recorded, const char *shape_file, struct vp_particles *p,
+                       struct vp_mesh_shape **mesh);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

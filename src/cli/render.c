@@ -225,21 +225,9 @@ int vp_cli_render(int argc, char **argv) {
         status = vp_cli_die(1, "%s: the points grid holds no particles: nothing to render", file);
         goto done;
     }
-    if ((p->shape == VP_SHAPE_MESH) != (shape_file != NULL)) {
-        status = vp_cli_die(2, shape_file ? "render: --shape is for packings of a mesh shape; %s "
-                                            "holds another shape"
-                                          : "render: %s holds particles of a mesh shape: give "
-                                            "the mesh with --shape FILE",
-                            file);
+    if ((status = vp_cli_attach_mesh(ctx, "render", file, "", shape_file, p, &mesh)) != 0)
         goto done;
-    }
-    if (shape_file) {
-        if (vp_mesh_shape_load(ctx, shape_file, &mesh) != VP_OK) {
-            status = vp_cli_die(1, "%s", vp_context_message(ctx));
-            goto done;
-        }
-        p->mesh = mesh;
-    }
+    status = 1;
     if (vp_cli_render_particles(ctx, p, &rp, out) != 0) {
         status = vp_cli_interrupted() ? vp_cli_interrupted_exit()
                                       : vp_cli_die(1, "%s", vp_context_message(ctx));

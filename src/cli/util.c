@@ -117,3 +117,21 @@ int vp_cli_analytic_container(vp_context *ctx, const char *spec, vp_container **
     return 0;
 }
 
+
+int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file,
+                       const char *recorded, const char *shape_file, struct vp_particles *p,
+                       struct vp_mesh_shape **mesh) {
+    *mesh = NULL;
+    if (p->shape == VP_SHAPE_MESH && !shape_file)
+        return vp_cli_die(2, "%s: %s holds particles of a mesh shape%s%s%s: give the mesh with "
+                             "--shape FILE", cmd, file, recorded[0] ? " (" : "", recorded,
+                          recorded[0] ? ")" : "");
+    if (shape_file && p->shape != VP_SHAPE_MESH)
+        return vp_cli_die(2, "%s: --shape is for packings of a mesh shape; %s holds %ss", cmd,
+                          file, vp_shape_name(p->shape));
+    if (!shape_file) return 0;
+    if (vp_mesh_shape_load(ctx, shape_file, mesh) != VP_OK)
+        return vp_cli_die(1, "%s", vp_context_message(ctx));
+    p->mesh = *mesh;
+    return 0;
+}

@@ -231,6 +231,29 @@ static double point_triangle_distance(const double p[3], const double a[3], cons
 
 /* --- point in mesh ----------------------------------------------------------------- */
 
+/* Moller-Trumbore: 1 with *t when the ray o + t d meets triangle tri (any
+ * t; the caller bounds it), and the triangle's edges e1, e2 for its normal. */
+static int ray_tri(const vp_mesh_shape *m, const uint32_t *tri, const double o[3],
+                   const double d[3], double *t, double e1[3], double e2[3]) {
+    const double *p0 = m->verts + 3 * (size_t)tri[0], *p1 = m->verts + 3 * (size_t)tri[1],
+                 *p2 = m->verts + 3 * (size_t)tri[2];
+    double pv[3], tv[3], qv[3];
+    sub3(p1, p0, e1);
+    sub3(p2, p0, e2);
+    vp_cross3(d, e2, pv);
+    double det = vp_dot3(e1, pv);
+    if (det == 0.0) return 0;
+    double id = 1.0 / det;
+    sub3(o, p0, tv);
+    double u = vp_dot3(tv, pv) * id;
+    if (u < 0.0 || u > 1.0) return 0;
+    vp_cross3(tv, e1, qv);
+    double v = vp_dot3(d, qv) * id;
+    if (v < 0.0 || u + v > 1.0) return 0;
+    *t = vp_dot3(e2, qv) * id;
+    return 1;
+}
+
 static int ray_box(const double o[3], const double inv[3], const vp_bvh_node *n) {
     double t0 = 0.0, t1 = HUGE_VAL;
     for (int k = 0; k < 3; k++) {
@@ -265,23 +288,10 @@ static unsigned ray_crossings(const vp_mesh_shape *m, const double o[3], const d
             continue;
         }
         for (uint32_t i = 0; i < n->count; i++) {
-            const uint32_t *t = m->tris + 3 * (size_t)m->order[n->first + i];
-            const double *p0 = m->verts + 3 * (size_t)t[0], *p1 = m->verts + 3 * (size_t)t[1],
-                         *p2 = m->verts + 3 * (size_t)t[2];
-            double e1[3], e2[3], pv[3], tv[3], qv[3];
-            sub3(p1, p0, e1);
-            sub3(p2, p0, e2);
-            vp_cross3(d, e2, pv);
-            double det = vp_dot3(e1, pv);
-            if (det == 0.0) continue;
-            double id = 1.0 / det;
-            sub3(o, p0, tv);
-            double u = vp_dot3(tv, pv) * id;
-            if (u < 0.0 || u > 1.0) continue;
-            vp_cross3(tv, e1, qv);
-            double v = vp_dot3(d, qv) * id;
-            if (v < 0.0 || u + v > 1.0) continue;
-            if (vp_dot3(e2, qv) * id > 0.0) hits++;
+            double t, e1[3], e2[3];
+            if (ray_tri(m, m->tris + 3 * (size_t)m->order[n->first + i], o, d, &t, e1, e2) &&
+                t > 0.0)
+                hits++;
         }
     }
     return hits;
@@ -333,24 +343,9 @@ int vp_mesh_shape_ray(const vp_mesh_shape *m, const double o[3], const double d[
             continue;
         }
         for (uint32_t i = 0; i < n->count; i++) {
-            const uint32_t *t = m->tris + 3 * (size_t)m->order[n->first + i];
-            const double *p0 = m->verts + 3 * (size_t)t[0], *p1 = m->verts + 3 * (size_t)t[1],
-                         *p2 = m->verts + 3 * (size_t)t[2];
-            double e1[3], e2[3], pv[3], tv[3], qv[3];
-            sub3(p1, p0, e1);
-            sub3(p2, p0, e2);
-            vp_cross3(d, e2, pv);
-            double det = vp_dot3(e1, pv);
-            if (det == 0.0) continue;
-            double id = 1.0 / det;
-            sub3(o, p0, tv);
-            double u = vp_dot3(tv, pv) * id;
-            if (u < 0.0 || u > 1.0) continue;
-            vp_cross3(tv, e1, qv);
-            double v = vp_dot3(d, qv) * id;
-            if (v < 0.0 || u + v > 1.0) continue;
-            double th = vp_dot3(e2, qv) * id;
-            if (th > tmin && th < best) {
+            double th, e1[3], e2[3];
+            if (ray_tri(m, m->tris + 3 * (size_t)m->order[n->first + i], o, d, &th, e1, e2) &&
+                th > tmin && th < best) {
                 best = th;
                 found = 1;
                 vp_cross3(e1, e2, n_out);
