@@ -205,7 +205,7 @@ static void test_mutated_files(void) {
         for (int t = 0; t < 1500; t++) {
             memcpy(bad, good, len);
             int flips = 1 + (int)(rnd() * 4);
-            for (int j = 0; j < flips; j++) bad[(size_t)(rnd() * (double)len)] = (char)(rnd() * 256);
+            for (int j = 0; j < flips; j++) bad[(size_t)(rnd() * (double)len)] = (char)(unsigned char)(rnd() * 256);
             write_file(tmp("mut.bin"), bad, len - (t % 5 == 0 ? (size_t)(rnd() * 40) : 0));
             vp_particles *q = NULL;
             vp_result r = vp_import(ctx, tmp("mut.bin"), k ? VP_FORMAT_CSV : VP_FORMAT_PLY, &q, NULL);
