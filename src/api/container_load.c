@@ -25,11 +25,6 @@ static void ls_gradient(void *user, const double p[3], double g[3]) {
 }
 static void ls_destroy(void *user) { vpv_levelset_destroy(user); }
 
-static const char *base_name(const char *path) {
-    const char *s = strrchr(path, '/');
-    return s ? s + 1 : path;
-}
-
 /* True when the file starts with OpenVDB's magic number or ends in .vdb. */
 static int looks_like_vdb(const char *path) {
     size_t n = strlen(path);
@@ -56,13 +51,13 @@ static vp_result finish_levelset(vp_context *ctx, const char *path, vpv_levelset
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                        "%s: the inside of the level set reaches its bounding box (it leaks: "
-                       "the surface is probably open), refusing to pack it", base_name(path));
+                       "the surface is probably open), refusing to pack it", vp_path_base(path));
     }
     if (li.inside_voxels == 0 || !(li.volume > 0)) {
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                        "%s: the level set has an empty inside (no voxel below zero%s)",
-                       base_name(path),
+                       vp_path_base(path),
                        info->kind == VP_CONTAINER_MESH ? "; is the mesh thinner than a voxel? "
                                                          "try a smaller --voxel-size" : "");
     }
@@ -129,7 +124,7 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
     vp_mesh *m = NULL;
     vp_result r = vp_mesh_load(path, &m, err, sizeof err);
     if (r != VP_OK) return vp_fail(ctx, r, "%s", err);
-    const char *name = base_name(path);
+    const char *name = vp_path_base(path);
     if ((m->boundary_edges || m->nonmanifold_edges) && !pp->allow_open) {
         vp_fail(ctx, VP_ERR_OPEN_MESH,
                 "%s: the mesh is not closed: %zu boundary edges and %zu non-manifold edges "
@@ -264,7 +259,7 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
                        "%s: about %.3g particles need an estimated %s of memory, more than the "
-                       "limit of %s; use fewer, larger particles", base_name(path), particles, a, b);
+                       "limit of %s; use fewer, larger particles", vp_path_base(path), particles, a, b);
     }
     if (radius > 0) {
         rc = vpv_levelset_ensure_interior(ls, 1.25 * radius + li.voxel_size, err, sizeof err);

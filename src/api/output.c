@@ -4,7 +4,6 @@
 #include "api/atomic.h"
 #include "api/probe.h"
 #include "core/context.h"
-#include "core/mesh_shape.h"
 #include "core/shape.h"
 #include "vdb/vdb_bridge.h"
 
@@ -109,37 +108,6 @@ static int write_sphere_obj(FILE *f) {
         base += (n + 1) * (n + 2) / 2;
     }
     return 0;
-}
-
-vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const char *path) {
-    if (!s) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no mesh shape");
-    vp_atomic a;
-    vp_result r = vp_atomic_begin(ctx, path, &a);
-    if (r != VP_OK) return r;
-    FILE *f = fopen(a.tmp_path, "w");
-    if (!f) {
-        int e = errno;
-        vp_atomic_abort(&a);
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write (%s)", path, strerror(e));
-    }
-    fprintf(f, "# vdbpack %s unit shape from %s: bounding-sphere radius 1 about the centroid\n"
-               "# of its volume, which is at the origin. Instance it at each point scaled by\n"
-               "# pscale and rotated by orient.\n",
-            VP_VERSION_STRING, s->name);
-    fprintf(f, "o %s\n", s->name);
-    for (size_t v = 0; v < s->nverts; v++)
-        fprintf(f, "v %.17g %.17g %.17g\n", s->verts[3 * v], s->verts[3 * v + 1],
-                s->verts[3 * v + 2]);
-    for (size_t t = 0; t < s->ntris; t++)
-        fprintf(f, "f %u %u %u\n", s->tris[3 * t] + 1, s->tris[3 * t + 1] + 1,
-                s->tris[3 * t + 2] + 1);
-    int bad = ferror(f) != 0;
-    if (fclose(f) != 0) bad = 1;
-    if (bad) {
-        vp_atomic_abort(&a);
-        return vp_fail(ctx, VP_ERR_IO, "%s: writing failed", path);
-    }
-    return vp_atomic_commit(ctx, &a);
 }
 
 vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path) {

@@ -21,13 +21,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#ifndef VP_SUBPROC_IN_PROCESS
-static const char *base_name(const char *path) {
-    const char *s = strrchr(path, '/');
-    return s ? s + 1 : path;
-}
-#endif
-
 vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const void *arg) {
 #ifdef VP_SUBPROC_IN_PROCESS
     (void)path;
@@ -43,14 +36,14 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     int fds[2];
     if (pipe(fds) != 0)
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot start the file check (pipe: %s)",
-                       base_name(path), strerror(errno));
+                       vp_path_base(path), strerror(errno));
     fflush(NULL); /* nothing buffered may be written twice */
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
         close(fds[1]);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: cannot start the file check (fork: %s)",
-                       base_name(path), strerror(errno));
+                       vp_path_base(path), strerror(errno));
     }
     if (pid == 0) {
         close(fds[0]);
@@ -91,7 +84,7 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
         return vp_fail(ctx, VP_ERR_FORMAT,
                        "%s: OpenVDB's reader did not finish within %.0f s; the file is probably "
                        "corrupt (set VDBPACK_READ_TIMEOUT to allow longer)",
-                       base_name(path), timeout);
+                       vp_path_base(path), timeout);
     }
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
@@ -100,11 +93,11 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
             return vp_fail(ctx, VP_ERR_FORMAT,
                            "%s: OpenVDB's reader crashed on this file (signal %d); the file is "
                            "probably corrupt",
-                           base_name(path), WTERMSIG(status));
+                           vp_path_base(path), WTERMSIG(status));
         return vp_fail(ctx, VP_ERR_FORMAT,
                        "%s: OpenVDB's reader failed on this file (exit status %d); the file is "
                        "probably corrupt",
-                       base_name(path), WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+                       vp_path_base(path), WIFEXITED(status) ? WEXITSTATUS(status) : -1);
     }
     msg[n] = '\0';
     if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", msg);

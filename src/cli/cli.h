@@ -40,6 +40,12 @@ int vp_cli_interrupted(void);
 void vp_cli_signals_track_output(const char *path);
 void vp_cli_signals_done(void);
 int vp_cli_interrupted_exit(void);
+/* After the last output `out` of a command was written (failed != 0: its
+ * write failed, message on ctx): 0 when the command may report success,
+ * else the exit status after one line (the error, or the signal, removing
+ * out). */
+struct vp_context;
+int vp_cli_finish_output(struct vp_context *ctx, int failed, const char *out);
 /* sphere:R or box:X,Y,Z (centred at the origin): 1 and *out if spec is
  * one, -1 if malformed, 0 if spec is not analytic (or names a file). */
 struct vp_context;

@@ -149,17 +149,9 @@ int vp_cli_convert(int argc, char **argv) {
     wp.full_precision = full;
     wp.meta = meta;
     wp.meta_count = 4;
-    if (vp_cli_write_particles(ctx, out, out_fmt, p, &wp, quiet) != 0) {
-        status = vp_cli_interrupted() ? vp_cli_interrupted_exit()
-                                      : vp_cli_die(1, "%s", vp_context_message(ctx));
-        goto done;
-    }
-    if (vp_cli_interrupted()) {
-        vp_cli_signals_track_output(out);
-        status = vp_cli_interrupted_exit();
-        goto done;
-    }
-    vp_cli_signals_done();
+    status = vp_cli_finish_output(
+        ctx, vp_cli_write_particles(ctx, out, out_fmt, p, &wp, quiet) != 0, out);
+    if (status) goto done;
     if (!quiet)
         printf("vdbpack: converted %zu %s%s from %s (%s) to %s (%s)\n", p->count,
                vp_shape_name(p->shape), p->count == 1 ? "" : "s", in, vp_format_name(in_fmt), out,

@@ -228,17 +228,8 @@ int vp_cli_render(int argc, char **argv) {
     if ((status = vp_cli_attach_mesh(ctx, "render", file, "", shape_file, p, &mesh)) != 0)
         goto done;
     status = 1;
-    if (vp_cli_render_particles(ctx, p, &rp, out) != 0) {
-        status = vp_cli_interrupted() ? vp_cli_interrupted_exit()
-                                      : vp_cli_die(1, "%s", vp_context_message(ctx));
-        goto done;
-    }
-    if (vp_cli_interrupted()) {
-        vp_cli_signals_track_output(out);
-        status = vp_cli_interrupted_exit();
-        goto done;
-    }
-    vp_cli_signals_done();
+    status = vp_cli_finish_output(ctx, vp_cli_render_particles(ctx, p, &rp, out) != 0, out);
+    if (status) goto done;
     if (!quiet)
         printf("vdbpack: rendered %zu particle%s of %s into %s (%dx%d)\n", p->count,
                p->count == 1 ? "" : "s", file, out, rp.width, rp.height);

@@ -81,3 +81,15 @@ int vp_cli_interrupted_exit(void) {
                             : "vdbpack: interrupted (SIGINT); no output written\n");
     return 128 + (int)g_signal;
 }
+
+int vp_cli_finish_output(struct vp_context *ctx, int failed, const char *out) {
+    if (failed)
+        return vp_cli_interrupted() ? vp_cli_interrupted_exit()
+                                    : vp_cli_die(1, "%s", vp_context_message(ctx));
+    if (vp_cli_interrupted()) {
+        vp_cli_signals_track_output(out);
+        return vp_cli_interrupted_exit();
+    }
+    vp_cli_signals_done();
+    return 0;
+}

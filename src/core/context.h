@@ -25,6 +25,8 @@ int vp_threads_for(const vp_context *ctx);
 int vp_report_progress(vp_context *ctx, double fraction, const char *stage);
 /* Memory limit in bytes: max_memory, else physical memory. */
 uint64_t vp_memory_limit(const vp_context *ctx);
+/* The part of path after its last '/' (a pointer into path). */
+const char *vp_path_base(const char *path);
 /* "1.5 GB"-style text for a byte count. */
 void vp_format_bytes(double bytes, char *out, size_t outlen);
 /* Monotonic seconds. */

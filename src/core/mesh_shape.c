@@ -19,14 +19,14 @@
 typedef struct bvh_build {
     vp_mesh_shape *m;
     double *cent; /* 3*ntris triangle centroids */
-    int axis;
+    struct bvh_key {
+        double key;
+        uint32_t tri;
+    } *keys;      /* ntris, scratch for the median splits */
 } bvh_build;
 
-static bvh_build *g_sort; /* qsort has no user pointer; the build is single-threaded */
-
-static int cmp_cent(const void *a, const void *b) {
-    double x = g_sort->cent[3 * *(const uint32_t *)a + g_sort->axis];
-    double y = g_sort->cent[3 * *(const uint32_t *)b + g_sort->axis];
+static int cmp_key(const void *a, const void *b) {
+    double x = ((const struct bvh_key *)a)->key, y = ((const struct bvh_key *)b)->key;
     return (x > y) - (x < y);
 }
 
@@ -66,9 +66,10 @@ static void build_node(bvh_build *bb, size_t ni, size_t b, size_t e) {
     int axis = 0;
     for (int k = 1; k < 3; k++)
         if (chi[k] - clo[k] > chi[axis] - clo[axis]) axis = k;
-    bb->axis = axis;
-    g_sort = bb;
-    qsort(m->order + b, e - b, sizeof *m->order, cmp_cent);
+    for (size_t i = b; i < e; i++)
+        bb->keys[i] = (struct bvh_key){bb->cent[3 * (size_t)m->order[i] + axis], m->order[i]};
+    qsort(bb->keys + b, e - b, sizeof *bb->keys, cmp_key);
+    for (size_t i = b; i < e; i++) m->order[i] = bb->keys[i].tri;
     size_t mid = b + (e - b) / 2;
     size_t left = m->nnodes;
     m->nnodes += 2;
@@ -82,8 +83,10 @@ static int build_bvh(vp_mesh_shape *m) {
     m->order = malloc(m->ntris * sizeof *m->order);
     m->nodes = malloc(2 * m->ntris * sizeof *m->nodes + sizeof *m->nodes);
     double *cent = malloc(3 * m->ntris * sizeof *cent);
-    if (!m->order || !m->nodes || !cent) {
+    struct bvh_key *keys = malloc(m->ntris * sizeof *keys);
+    if (!m->order || !m->nodes || !cent || !keys) {
         free(cent);
+        free(keys);
         return -1;
     }
     for (size_t t = 0; t < m->ntris; t++) {
@@ -94,10 +97,11 @@ static int build_bvh(vp_mesh_shape *m) {
             cent[3 * t + k] = s / 3.0;
         }
     }
-    bvh_build bb = {m, cent, 0};
+    bvh_build bb = {m, cent, keys};
     m->nnodes = 1;
     build_node(&bb, 0, 0, m->ntris);
     free(cent);
+    free(keys);
     return 0;
 }
 
@@ -254,24 +258,11 @@ static int ray_tri(const vp_mesh_shape *m, const uint32_t *tri, const double o[3
     return 1;
 }
 
-static int ray_box(const double o[3], const double inv[3], const vp_bvh_node *n) {
-    double t0 = 0.0, t1 = HUGE_VAL;
-    for (int k = 0; k < 3; k++) {
-        double a = (n->lo[k] - o[k]) * inv[k], b = (n->hi[k] - o[k]) * inv[k];
-        if (a > b) {
-            double t = a;
-            a = b;
-            b = t;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) return 0;
-    }
-    return 1;
-}
-
-/* Crossings of the ray o + t d (t > 0) with the surface. */
-static unsigned ray_crossings(const vp_mesh_shape *m, const double o[3], const double d[3]) {
+/* Walks the BVH along the ray o + t d for tmin < t < *tmax. nearest: each
+ * hit shrinks *tmax and leaves its triangle's (unnormalised) normal in n;
+ * otherwise *tmax stays and every hit is counted. Returns the hits. */
+static unsigned ray_walk(const vp_mesh_shape *m, const double o[3], const double d[3],
+                         double tmin, double *tmax, int nearest, double n[3]) {
     double inv[3];
     for (int k = 0; k < 3; k++) inv[k] = 1.0 / d[k];
     uint32_t stack[128];
@@ -279,19 +270,37 @@ static unsigned ray_crossings(const vp_mesh_shape *m, const double o[3], const d
     stack[sp++] = 0;
     unsigned hits = 0;
     while (sp) {
-        const vp_bvh_node *n = &m->nodes[stack[--sp]];
-        if (!ray_box(o, inv, n)) continue;
-        if (n->count == 0) {
+        const vp_bvh_node *nd = &m->nodes[stack[--sp]];
+        double t0 = tmin, t1 = *tmax;
+        int miss = 0;
+        for (int k = 0; k < 3 && !miss; k++) {
+            double a = (nd->lo[k] - o[k]) * inv[k], b = (nd->hi[k] - o[k]) * inv[k];
+            if (a > b) {
+                double x = a;
+                a = b;
+                b = x;
+            }
+            if (a > t0) t0 = a;
+            if (b < t1) t1 = b;
+            miss = t0 > t1;
+        }
+        if (miss) continue;
+        if (nd->count == 0) {
             if (sp + 2 > 128) continue; /* cannot happen for a median-split tree */
-            stack[sp++] = n->first;
-            stack[sp++] = n->first + 1;
+            stack[sp++] = nd->first;
+            stack[sp++] = nd->first + 1;
             continue;
         }
-        for (uint32_t i = 0; i < n->count; i++) {
+        for (uint32_t i = 0; i < nd->count; i++) {
             double t, e1[3], e2[3];
-            if (ray_tri(m, m->tris + 3 * (size_t)m->order[n->first + i], o, d, &t, e1, e2) &&
-                t > 0.0)
-                hits++;
+            if (!ray_tri(m, m->tris + 3 * (size_t)m->order[nd->first + i], o, d, &t, e1, e2) ||
+                !(t > tmin && t < *tmax))
+                continue;
+            hits++;
+            if (nearest) {
+                *tmax = t;
+                vp_cross3(e1, e2, n);
+            }
         }
     }
     return hits;
@@ -307,55 +316,19 @@ int vp_mesh_shape_contains(const vp_mesh_shape *m, const double p[3]) {
                                       {-0.6230881925906245, 0.7044866501044696, 0.3397935609730288},
                                       {0.2119123866410093, -0.8430492776704618, 0.4943288943683384}};
     int in = 0;
-    for (int r = 0; r < 3; r++) in += (int)(ray_crossings(m, p, dirs[r]) & 1u);
+    for (int r = 0; r < 3; r++) {
+        double tmax = HUGE_VAL;
+        in += (int)(ray_walk(m, p, dirs[r], 0.0, &tmax, 0, NULL) & 1u);
+    }
     return in >= 2;
 }
 
 int vp_mesh_shape_ray(const vp_mesh_shape *m, const double o[3], const double d[3], double tmin,
                       double tmax, double *t_hit, double n_out[3]) {
-    double inv[3];
-    for (int k = 0; k < 3; k++) inv[k] = 1.0 / d[k];
-    uint32_t stack[128];
-    int sp = 0, found = 0;
-    stack[sp++] = 0;
-    double best = tmax;
-    while (sp) {
-        const vp_bvh_node *n = &m->nodes[stack[--sp]];
-        /* slab test limited to (tmin, best) */
-        double t0 = tmin, t1 = best;
-        int miss = 0;
-        for (int k = 0; k < 3 && !miss; k++) {
-            double a = (n->lo[k] - o[k]) * inv[k], b = (n->hi[k] - o[k]) * inv[k];
-            if (a > b) {
-                double x = a;
-                a = b;
-                b = x;
-            }
-            if (a > t0) t0 = a;
-            if (b < t1) t1 = b;
-            if (t0 > t1) miss = 1;
-        }
-        if (miss) continue;
-        if (n->count == 0) {
-            if (sp + 2 > 128) continue;
-            stack[sp++] = n->first;
-            stack[sp++] = n->first + 1;
-            continue;
-        }
-        for (uint32_t i = 0; i < n->count; i++) {
-            double th, e1[3], e2[3];
-            if (ray_tri(m, m->tris + 3 * (size_t)m->order[n->first + i], o, d, &th, e1, e2) &&
-                th > tmin && th < best) {
-                best = th;
-                found = 1;
-                vp_cross3(e1, e2, n_out);
-            }
-        }
-    }
-    if (!found) return 0;
+    if (!ray_walk(m, o, d, tmin, &tmax, 1, n_out)) return 0;
     double l = vp_norm3(n_out);
     for (int k = 0; k < 3; k++) n_out[k] /= l;
-    *t_hit = best;
+    *t_hit = tmax;
     return 1;
 }
 
@@ -419,16 +392,18 @@ static int crossing(const vp_mesh_shape *m, const pair_frame *f, double *depth) 
         }
         if (apart) continue;
         if (A->count && B->count) {
+            double at[4][3][3]; /* A's leaf triangles (at most 4), once per leaf pair */
+            for (uint32_t i = 0; i < A->count; i++) {
+                const uint32_t *ta = m->tris + 3 * (size_t)m->order[A->first + i];
+                for (int v = 0; v < 3; v++)
+                    memcpy(at[i][v], m->verts + 3 * (size_t)ta[v], sizeof at[i][v]);
+            }
             for (uint32_t j = 0; j < B->count; j++) {
                 const uint32_t *tb = m->tris + 3 * (size_t)m->order[B->first + j];
                 double bt[3][3];
                 for (int v = 0; v < 3; v++) to_a(f, m->verts + 3 * (size_t)tb[v], bt[v]);
                 for (uint32_t i = 0; i < A->count; i++) {
-                    const uint32_t *ta = m->tris + 3 * (size_t)m->order[A->first + i];
-                    double at[3][3];
-                    for (int v = 0; v < 3; v++)
-                        memcpy(at[v], m->verts + 3 * (size_t)ta[v], sizeof at[v]);
-                    double g = tri_tri_gap(at, bt);
+                    double g = tri_tri_gap((const double(*)[3])at[i], (const double(*)[3])bt);
                     if (g < 0) {
                         if (!depth) return 1;
                         found = 1;
@@ -493,6 +468,14 @@ int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
 
 /* --- the wall ------------------------------------------------------------------------ */
 
+/* Vertex v of m placed by (R, scale, t). */
+static void place(const vp_mesh_shape *m, const double R[3][3], double scale, const double t[3],
+                  uint32_t v, double x[3]) {
+    const double *p = m->verts + 3 * (size_t)v;
+    for (int k = 0; k < 3; k++)
+        x[k] = scale * (R[k][0] * p[0] + R[k][1] * p[1] + R[k][2] * p[2]) + t[k];
+}
+
 double vp_mesh_shape_wall_distance(const vp_container *c, const vp_mesh_shape *m, double scale,
                                    const double q[4], const double t[3], double stop) {
     static const double qid[4] = {0, 0, 0, 1};
@@ -500,47 +483,39 @@ double vp_mesh_shape_wall_distance(const vp_container *c, const vp_mesh_shape *m
     double R[3][3];
     vp_quat_to_matrix(q, R);
     vp_wall_acc a = {c, -HUGE_VAL, stop};
-    double h = c->info.voxel_size;
-    int faces = h > 0 && m->max_edge * scale > h; /* else the vertices are h apart */
-    double *w = NULL;
-    if (faces) {
-        w = malloc(3 * m->nverts * sizeof *w);
-        if (!w) faces = 0; /* fall back to the vertices (reported as such below) */
-    }
     for (size_t v = 0; v < m->nverts; v++) {
-        const double *p = m->verts + 3 * v;
         double x[3];
-        for (int k = 0; k < 3; k++)
-            x[k] = scale * (R[k][0] * p[0] + R[k][1] * p[1] + R[k][2] * p[2]) + t[k];
-        if (w) memcpy(w + 3 * v, x, sizeof x);
-        if (vp_wall_sample(&a, x)) {
-            free(w);
-            return a.worst;
-        }
+        place(m, R, scale, t, (uint32_t)v, x);
+        if (vp_wall_sample(&a, x)) return a.worst;
     }
-    if (!w) return a.worst;
-    for (size_t e = 0; e < m->nedges && a.worst <= a.stop; e++) {
-        const double *p = w + 3 * (size_t)m->edges[2 * e], *r = w + 3 * (size_t)m->edges[2 * e + 1];
-        double d[3];
-        sub3(p, r, d);
-        int n = (int)ceil(vp_norm3(d) / h);
+    double h = c->info.voxel_size;
+    if (!(h > 0 && m->max_edge * scale > h)) return a.worst; /* the vertices are h apart */
+    /* edges and triangles with their vertices placed again as needed (a
+     * rotation keeps lengths: the unit edge times scale) */
+    for (size_t e = 0; e < m->nedges; e++) {
+        const uint32_t *ev = m->edges + 2 * e;
+        double p[3], r[3], d[3];
+        sub3(m->verts + 3 * (size_t)ev[0], m->verts + 3 * (size_t)ev[1], d);
+        int n = (int)ceil(scale * vp_norm3(d) / h);
+        if (n < 2) continue;
         if (n > 4096) n = 4096;
-        if (n >= 2 && vp_wall_segment(&a, p, r, n)) break;
+        place(m, R, scale, t, ev[0], p);
+        place(m, R, scale, t, ev[1], r);
+        if (vp_wall_segment(&a, p, r, n)) return a.worst;
     }
-    for (size_t ti = 0; ti < m->ntris && a.worst <= a.stop; ti++) {
+    for (size_t ti = 0; ti < m->ntris; ti++) {
         const uint32_t *tr = m->tris + 3 * ti;
-        const double *p0 = w + 3 * (size_t)tr[0], *p1 = w + 3 * (size_t)tr[1],
-                     *p2 = w + 3 * (size_t)tr[2];
-        double d0[3], d1[3], d2[3];
-        sub3(p1, p0, d0);
-        sub3(p2, p1, d1);
-        sub3(p0, p2, d2);
-        double L = fmax(vp_norm3(d0), fmax(vp_norm3(d1), vp_norm3(d2)));
+        double L = 0, w[3][3], d[3];
+        for (int i = 0; i < 3; i++) {
+            sub3(m->verts + 3 * (size_t)tr[i], m->verts + 3 * (size_t)tr[(i + 1) % 3], d);
+            L = fmax(L, scale * vp_norm3(d));
+        }
         int n = (int)ceil(L / h);
+        if (n < 3) continue;
         if (n > 4096) n = 4096;
-        if (n >= 3 && vp_wall_triangle(&a, p0, p1, p2, n)) break;
+        for (int i = 0; i < 3; i++) place(m, R, scale, t, tr[i], w[i]);
+        if (vp_wall_triangle(&a, w[0], w[1], w[2], n)) return a.worst;
     }
-    free(w);
     return a.worst;
 }
 

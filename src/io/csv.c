@@ -95,13 +95,9 @@ static void rows_free(rows *t) {
 vp_result vpio_read_csv(vp_context *ctx, const char *path, vp_particles **out, int *has_orient) {
     *out = NULL;
     *has_orient = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
-        return vp_fail(ctx, VP_ERR_IO, "%s: not a regular file", path);
-    }
+    FILE *f = NULL;
+    vp_result ro = vpio_open_read(ctx, path, &f);
+    if (ro != VP_OK) return ro;
     rows t = {0};
     vp_particles *p = NULL;
     unsigned char *seen = NULL;

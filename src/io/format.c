@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 static const char *const k_names[] = {NULL, "vdb", "ply", "csv", "obj"};
 
@@ -138,6 +139,18 @@ vp_result vpio_open(vp_context *ctx, const char *path, vpio_out *o) {
     }
     o->buf = malloc(1 << 20);
     if (o->buf) setvbuf(o->f, o->buf, _IOFBF, 1 << 20);
+    return VP_OK;
+}
+
+vp_result vpio_open_read(vp_context *ctx, const char *path, FILE **f) {
+    *f = fopen(path, "rb");
+    if (!*f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(*f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(*f);
+        *f = NULL;
+        return vp_fail(ctx, VP_ERR_IO, "%s: not a regular file", path);
+    }
     return VP_OK;
 }
 

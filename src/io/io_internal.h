@@ -33,6 +33,10 @@ vp_result vpio_open(vp_context *ctx, const char *path, vpio_out *o);
  * fclose) removes the temporary and reports "PATH: writing failed (...)". */
 vp_result vpio_close(vp_context *ctx, vpio_out *o, int bad);
 
+/* Opens path for reading ("rb"); refuses anything but a regular file.
+ * VP_OK with *f (the caller closes it), or VP_ERR_IO with a message. */
+vp_result vpio_open_read(vp_context *ctx, const char *path, FILE **f);
+
 /* The checks shared by the writers: group indices in range, at most
  * VP_MAX_GROUPS groups, arrays present for count > 0. */
 vp_result vpio_check_particles(vp_context *ctx, const char *path, const vp_particles *p);

@@ -210,3 +210,22 @@ vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *
     }
     return vpio_close(ctx, &o, 0);
 }
+
+vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const char *path) {
+    if (!s) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no mesh shape");
+    vpio_out o;
+    vp_result r = vpio_open(ctx, path, &o);
+    if (r != VP_OK) return r;
+    fprintf(o.f, "# vdbpack %s unit shape from %s: bounding-sphere radius 1 about the centroid\n"
+                 "# of its volume, which is at the origin. Instance it at each point scaled by\n"
+                 "# pscale and rotated by orient.\n",
+            VP_VERSION_STRING, s->name);
+    fprintf(o.f, "o %s\n", s->name);
+    for (size_t v = 0; v < s->nverts; v++)
+        fprintf(o.f, "v %.17g %.17g %.17g\n", s->verts[3 * v], s->verts[3 * v + 1],
+                s->verts[3 * v + 2]);
+    for (size_t t = 0; t < s->ntris; t++)
+        fprintf(o.f, "f %u %u %u\n", s->tris[3 * t] + 1, s->tris[3 * t + 1] + 1,
+                s->tris[3 * t + 2] + 1);
+    return vpio_close(ctx, &o, 0);
+}

@@ -242,13 +242,9 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
 vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, int *needs_shape) {
     *out = NULL;
     *needs_shape = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
-        return vp_fail(ctx, VP_ERR_IO, "%s: not a regular file", path);
-    }
+    FILE *f = NULL;
+    vp_result ro = vpio_open_read(ctx, path, &f);
+    if (ro != VP_OK) return ro;
     ply_header h;
     size_t hb = 0;
     vp_result r = parse_header(ctx, path, f, &h, &hb);
@@ -257,6 +253,8 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
         return r;
     }
     unsigned long long want = (unsigned long long)hb + (unsigned long long)h.n * h.stride;
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0) st.st_size = 0;
     if ((unsigned long long)st.st_size != want) {
         fclose(f);
         return BAD("%s: %s: the header promises %zu vertices of %zu bytes (%llu bytes in all), the "

@@ -14,8 +14,7 @@ vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **
     vp_mesh *mesh = NULL;
     vp_result r = vp_mesh_load(path, &mesh, err, sizeof err);
     if (r != VP_OK) return vp_fail(ctx, r, "shape %s", err);
-    const char *bn = strrchr(path, '/');
-    bn = bn ? bn + 1 : path;
+    const char *bn = vp_path_base(path);
     if (mesh->boundary_edges || mesh->nonmanifold_edges) {
         size_t b = mesh->boundary_edges, n = mesh->nonmanifold_edges;
         vp_mesh_destroy(mesh);
