@@ -38,6 +38,7 @@ int main(int argc, char **argv) {
     vp_container_params cp;
     vp_container_params_init(&cp);
     cp.particle_count = (size_t)strtoull(argv[2], NULL, 10);
+    cp.narrow_band = 1; /* as the CLI loads containers for the lattice packer */
     if (argc > 3) cp.voxel_size = atof(argv[3]);
     double t0 = now();
     vp_container *c = NULL;

@@ -179,6 +179,13 @@ typedef struct vp_container_params {
                                  0 = spheres on FCC */
     int allow_open;           /* voxelize open/non-manifold meshes anyway */
     const char *grid_name;    /* .vdb: grid to use; NULL = first level set */
+    int narrow_band;          /* 1: the interior band reaches just past
+                                 particle_radius (1.02 r + 0.9 voxel, at
+                                 least 3 voxels): enough for the lattice
+                                 packer, whose search reads deeper through
+                                 a coarse depth map, and about a third
+                                 faster to voxelize; 0: 1.25 r + 2 voxels,
+                                 room for growth and relaxation */
 } vp_container_params;
 void vp_container_params_init(vp_container_params *p);
 
@@ -264,7 +271,7 @@ typedef struct vp_lattice_report {
     double radius;            /* radius used */
     size_t count;             /* particles placed */
     int offsets_tried;        /* placements evaluated in total */
-    int rotations_tried;
+    int rotations_tried;      /* orientations searched (1 without rotate) */
     int radius_iterations;    /* count mode: radii tried */
     double offset[3];         /* chosen lattice offset (world) */
     double rotation[4];       /* chosen global rotation (x,y,z,w) */

@@ -25,6 +25,18 @@ static void ls_gradient(void *user, const double p[3], double g[3]) {
 }
 static void ls_destroy(void *user) { vpv_levelset_destroy(user); }
 
+/* The coarse depth map (core/depth_map.h) of a level-set container. Capped
+ * at 64M blocks (256 MB; a container that large holds billions of
+ * particles, and without the map the packer is only slower). */
+static int ls_depth_map(const vp_container *c, vp_depth_map *out) {
+    memset(out, 0, sizeof *out);
+    vpv_blocks b;
+    char err[256];
+    if (vpv_levelset_blocks(c->levelset, (size_t)1 << 26, &b, err, sizeof err) != VP_OK) return -1;
+    return vp_depth_map_build(out, b.origin, b.block, b.voxel, b.dims, b.value,
+                              c->info.interior_band, b.background);
+}
+
 /* True when the file starts with OpenVDB's magic number or ends in .vdb. */
 static int looks_like_vdb(const char *path) {
     size_t n = strlen(path);
@@ -75,6 +87,7 @@ static vp_result finish_levelset(vp_context *ctx, const char *path, vpv_levelset
         return r;
     }
     (*out)->levelset = ls;
+    (*out)->depth_map = ls_depth_map;
     return VP_OK;
 }
 
@@ -172,7 +185,9 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
         vp_mesh_destroy(m);
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: cannot choose a voxel size", name);
     }
-    double in_band = radius > 0 ? ceil(1.25 * radius / voxel) + 2 : 3;
+    double in_band = radius > 0 ? (pp->narrow_band ? ceil(1.02 * radius / voxel + 0.9)
+                                                   : ceil(1.25 * radius / voxel) + 2)
+                                : 3;
     if (in_band < 3) in_band = 3;
     double ex_band = 3;
     /* memory guard: narrow-band voxels ~ area / voxel^2 * band width, at
@@ -262,7 +277,9 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
                        "limit of %s; use fewer, larger particles", vp_path_base(path), particles, a, b);
     }
     if (radius > 0) {
-        rc = vpv_levelset_ensure_interior(ls, 1.25 * radius + li.voxel_size, err, sizeof err);
+        double depth = pp->narrow_band ? 1.02 * radius + 0.9 * li.voxel_size
+                                       : 1.25 * radius + li.voxel_size;
+        rc = vpv_levelset_ensure_interior(ls, depth, err, sizeof err);
         if (rc != VP_OK) {
             vpv_levelset_destroy(ls);
             return vp_fail(ctx, (vp_result)rc, "%s", err);

@@ -589,8 +589,8 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
         printf("  placement: %d offsets tried over %d orientation%s", l->offsets_tried,
                l->rotations_tried, l->rotations_tried == 1 ? "" : "s");
         if (o->count)
-            printf(", %d radii tried for --count %llu", l->radius_iterations,
-                   (unsigned long long)o->count);
+            printf(", %d %s tried for --count %llu", l->radius_iterations,
+                   l->radius_iterations == 1 ? "radius" : "radii", (unsigned long long)o->count);
         printf("\n  packing fraction %.4f (the infinite lattice: %.4f)\n", fraction,
                l->lattice_fraction);
     } else if (!strcmp(o->method, "rsa")) {
@@ -696,6 +696,7 @@ int vp_cli_pack(int argc, char **argv) {
         cp.grid_name = o.grid;
         cp.particle_radius = largest_radius(&o);
         cp.particle_count = (size_t)o.count;
+        cp.narrow_band = !strcmp(o.method, "lattice");
         /* space one particle takes (at bounding radius 1): shape volume /
          * packing fraction, for estimating the radius from a count */
         if (!strcmp(o.method, "lattice")) {

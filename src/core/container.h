@@ -4,6 +4,7 @@
 #ifndef VDBPACK_CORE_CONTAINER_H
 #define VDBPACK_CORE_CONTAINER_H
 
+#include "core/depth_map.h"
 #include "vdbpack/vdbpack.h"
 
 struct vp_container {
@@ -11,6 +12,11 @@ struct vp_container {
     void *user;
     vp_container_info info;
     void *levelset;  /* the vpv_levelset behind a level-set container, else NULL */
+    /* Optional (NULL for analytic containers, which are cheap to sample
+     * anyway): builds the coarse depth map of depth_map.h into *out (owned
+     * by the caller). Returns 0, or -1 when there is none (the caller then
+     * samples everything). */
+    int (*depth_map)(const struct vp_container *c, vp_depth_map *out);
 };
 
 /* Wraps ops/user into a new container with the given info (copied).

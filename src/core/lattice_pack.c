@@ -11,6 +11,7 @@
  * second. The final placement is regenerated and tested exactly. */
 #include "core/container.h"
 #include "core/context.h"
+#include "core/depth_map.h"
 #include "core/geom.h"
 #include "core/lattice_basis.h"
 #include "core/parallel.h"
@@ -35,6 +36,7 @@ typedef struct setup {
     double lo[3], hi[3];       /* box that holds every admissible centre */
     double thr_in;             /* d <= thr_in - m: in for every offset */
     double thr_out;            /* d >  thr_out + m: out for every offset */
+    const vp_depth_map *dm;    /* coarse depth bounds, or NULL (depth_map.h) */
 } setup;
 
 /* --- small helpers ------------------------------------------------------ */
@@ -118,8 +120,13 @@ static inline double dist(const setup *s, const double x[3]) {
     return s->c->ops.distance(s->c->user, x);
 }
 
-/* Exact fit test of a particle centred at x. */
+/* Exact fit test of a particle centred at x. The depth map decides the
+ * bulk without sampling (its bounds hold for the sampled distance, so the
+ * answer is the same). */
 static int fits(const setup *s, const double x[3]) {
+    double b = vp_depth_map_at(s->dm, x);
+    if (b < 0.0 && b <= s->thr_in) return 1;
+    if (b > 0.0 && b > s->thr_out) return 0;
     double d = dist(s, x);
     if (d <= s->thr_in) return 1;
     if (d > s->thr_out || !s->poly || s->fit == VP_FIT_CENTER) return 0;
@@ -207,6 +214,7 @@ typedef struct classify_job {
     double m;            /* largest offset norm */
     double lo[3], hi[3]; /* box grown by m */
     long n3min, n2min, n2max;
+    long slab_stride;    /* visit every slab_stride-th slab */
     size_t *in_count;    /* per slab */
     point_list *amb;     /* per slab */
 } classify_job;
@@ -221,6 +229,12 @@ static int classify_visit(void *user, const double x[3]) {
     classify_slab *cs = user;
     const setup *s = cs->job->s;
     double m = cs->job->m;
+    double b = vp_depth_map_at(s->dm, x);
+    if (b < 0.0 && b + m <= s->thr_in) {
+        cs->in++;
+        return 1;
+    }
+    if (b > 0.0 && b - m > s->thr_out) return 1;
     double d = dist(s, x);
     if (d <= s->thr_in - m) cs->in++;
     else if (d <= s->thr_out + m) list_push(cs->amb, x);
@@ -230,7 +244,7 @@ static int classify_visit(void *user, const double x[3]) {
 static void classify_task(void *user, size_t i) {
     classify_job *j = user;
     classify_slab cs = {j, 0, &j->amb[i]};
-    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi, j->n3min + (long)i, j->n2min,
+    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi, j->n3min + (long)i * j->slab_stride, j->n2min,
                j->n2max, classify_visit, &cs);
     j->in_count[i] = cs.in;
 }
@@ -239,10 +253,21 @@ typedef struct classified {
     size_t always_in;
     double *amb;   /* 3*namb */
     size_t namb;
+    size_t stride; /* amb holds every stride-th ambiguous point */
     double m;
 } classified;
 
-static int classify(const setup *s, double m, int threads, classified *out) {
+/* Ambiguous points the search re-tests per placement, at most: past that
+ * it re-tests an even subsample (every k-th point in lattice order, so
+ * spread over the whole wall) and scales its count. Placements of a large
+ * packing differ by a few particles in a million, below what the
+ * subsample resolves, and what it picks is regenerated and counted
+ * exactly; this keeps the search's cost flat in the packing's size. */
+#define VP_AMB_MAX 131072
+
+/* slab_stride > 1: classifies every slab_stride-th slab only, and scales
+ * the counts (an estimate, for stepping the radius of a large packing). */
+static int classify(const setup *s, double m, int threads, long slab_stride, classified *out) {
     classify_job j;
     memset(&j, 0, sizeof j);
     j.s = s;
@@ -255,7 +280,9 @@ static int classify(const setup *s, double m, int threads, classified *out) {
     double zero[3] = {0, 0, 0};
     coord_range(s, zero, j.lo, j.hi, 2, &n3min, &n3max);
     coord_range(s, zero, j.lo, j.hi, 1, &n2min, &n2max);
-    size_t nslabs = (size_t)(n3max - n3min + 1);
+    if (slab_stride < 1) slab_stride = 1;
+    size_t nslabs = (size_t)((n3max - n3min) / slab_stride + 1);
+    j.slab_stride = slab_stride;
     j.n3min = n3min;
     j.n2min = n2min;
     j.n2max = n2max;
@@ -286,9 +313,17 @@ static int classify(const setup *s, double m, int threads, classified *out) {
     free(j.amb);
     free(j.in_count);
     if (!all) return -1;
-    out->always_in = in;
+    size_t stride = total > VP_AMB_MAX ? (total + VP_AMB_MAX - 1) / VP_AMB_MAX : 1;
+    if (stride > 1) {
+        size_t k = 0;
+        for (size_t i = 0; i < total; i += stride, k++)
+            memmove(all + 3 * k, all + 3 * i, 3 * sizeof(double));
+        total = k;
+    }
+    out->always_in = in * (size_t)slab_stride;
     out->amb = all;
     out->namb = total;
+    out->stride = stride * (size_t)slab_stride;
     out->m = m;
     return 0;
 }
@@ -341,7 +376,7 @@ static size_t count_at(const setup *s, const classified *cl, const double u[3]) 
     double o[3];
     offset_world(s, u, o);
     if (vp_norm3(o) > cl->m) return 0; /* outside what the classification covers */
-    size_t n = cl->always_in;
+    size_t n = 0;
     for (size_t i = 0; i < cl->namb; i++) {
         const double *x = cl->amb + 3 * i;
         double y[3] = {x[0] + o[0], x[1] + o[1], x[2] + o[2]};
@@ -350,7 +385,7 @@ static size_t count_at(const setup *s, const classified *cl, const double u[3]) 
             continue;
         n += (size_t)fits(s, y);
     }
-    return n;
+    return cl->always_in + n * cl->stride;
 }
 
 static void eval_task(void *user, size_t i) {
@@ -378,6 +413,8 @@ typedef struct search_cfg {
     uint64_t seed;
     int threads;
     vp_context *ctx;
+    const vp_depth_map *dm; /* or NULL */
+    long slab_stride;       /* > 1: estimate counts from every k-th slab */
 } search_cfg;
 
 /* Point tests the automatic search may spend per stage (about
@@ -424,19 +461,23 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
         if (rot > 0) random_quat(&rng, q);
         setup s;
         setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->fit, r, q);
+        s.dm = cfg->dm;
         classified cl;
         double m = noff > 1 ? covering_bound(&s) : 0.0;
-        if (cfg->c->info.voxel_size > 0) {
-            m += 0.05 * cfg->c->info.voxel_size;
+        if (cfg->c->info.voxel_size > 0) m += 0.05 * cfg->c->info.voxel_size;
+        if (cfg->c->info.voxel_size > 0 && !cfg->dm) {
             /* Points deeper than the interior band read the band's depth,
              * so a point is known to fit for every offset up to m only
              * while r + m stays within the band: past that every inside
              * point would be re-tested for every offset. Offsets are then
-             * limited to |o| <= m (count_at gives the others 0). */
+             * limited to |o| <= m (count_at gives the others 0). With a
+             * depth map the deep points are classified by the map, and
+             * only the shell within about band + 16 voxels of the wall is
+             * re-tested. */
             double avail = cfg->c->info.interior_band + s.thr_in - 0.05 * cfg->c->info.voxel_size;
             if (m > avail) m = avail > 0.0 ? avail : 0.0;
         }
-        if (classify(&s, m, cfg->threads, &cl) != 0) {
+        if (classify(&s, m, cfg->threads, cfg->slab_stride, &cl) != 0) {
             free(u);
             free(counts);
             free(best_cl.amb);
@@ -469,7 +510,7 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
             }
         }
         st->offsets_tried += noff;
-        st->rotations_tried++;
+        if (rot + 1 > st->rotations_tried) st->rotations_tried = rot + 1;
         size_t bi = 0;
         for (int i = 1; i < noff; i++)
             if (counts[i] > counts[bi]) bi = (size_t)i;
@@ -678,6 +719,10 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     cfg.seed = params->seed;
     cfg.threads = vp_threads_for(ctx);
     cfg.ctx = ctx;
+    /* the container's depth map (level sets only), freed below */
+    vp_depth_map dm;
+    memset(&dm, 0, sizeof dm);
+    if (c->depth_map && c->depth_map(c, &dm) == 0) cfg.dm = &dm;
     cfg.refine = 1;
     cfg.rotations = params->rotate ? (params->rotations > 0 ? params->rotations : 24) : 1;
     if (params->offsets > 0) {
@@ -699,8 +744,12 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     quick.rotations = 1;
     quick.refine = 0;
     quick.budgeted = 0;
+    /* the first count of a large packing only steps the radius (below):
+     * an estimate from every 4th slab is within a few in 10^4 */
+    if (count_mode && params->count >= 1e5 && (cfg.offsets > 1 || cfg.rotations > 1))
+        quick.slab_stride = 4;
     vp_result res = search(count_mode ? &quick : &cfg, r, &best, &st);
-    if (res != VP_OK) return res;
+    if (res != VP_OK) goto fail;
     rep.radius_iterations = 1;
     if (count_mode) {
         /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest.
@@ -713,10 +762,24 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
             if (phase) {
                 if (cfg.offsets <= 1 && cfg.rotations <= 1) break;
                 res = search(&cfg, r, &best, &st);
-                if (res != VP_OK) return res;
+                if (res != VP_OK) goto fail;
             }
             double best_r = r, best_err = fabs((double)best.count - target);
             placement best_p = best;
+            if (phase == 0 && target >= 1e5 && (cfg.offsets > 1 || cfg.rotations > 1)) {
+                /* A large packing: the full search follows and counts
+                 * again, and the r^-3 model is then within a fraction of
+                 * a per cent, so step once without re-evaluating. */
+                double nr = r * cbrt(best.count ? (double)best.count / target : 0.125);
+                if (params->fit == VP_FIT_INSIDE && nr > c->info.interior_band)
+                    nr = c->info.interior_band;
+                if (best_err > 0.001 * target && nr != r) {
+                    r = nr;
+                    rep.radius_iterations++;
+                }
+                quick.slab_stride = 1;
+                continue;
+            }
             for (int it = 0; it < 16 && best_err > 0.01 * target; it++) {
                 double ratio = best.count ? (double)best.count / target : 0.125;
                 double nr = r * cbrt(ratio);
@@ -726,7 +789,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 r = nr;
                 if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
                 res = search(sc, r, &best, &st);
-                if (res != VP_OK) return res;
+                if (res != VP_OK) goto fail;
                 rep.radius_iterations++;
                 double e = fabs((double)best.count - target);
                 if (e < best_err) {
@@ -741,10 +804,12 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     }
     setup s;
     setup_build(&s, c, &lb, poly, params->fit, r, best.q);
+    s.dm = cfg.dm;
     vp_particles *p = NULL;
     double o[3];
     res = generate(ctx, &s, best.u, cfg.threads, &p, o);
-    if (res != VP_OK) return res;
+    if (res != VP_OK) goto fail;
+    vp_depth_map_free(&dm);
     if (p->count == 0) {
         vp_particles_destroy(p);
         return vp_fail(ctx, VP_ERR_NO_FIT,
@@ -770,4 +835,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     if (report) *report = rep;
     *out = p;
     return VP_OK;
+fail:
+    vp_depth_map_free(&dm);
+    return res;
 }

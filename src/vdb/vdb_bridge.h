@@ -26,7 +26,8 @@ typedef struct vpv_levelset_info {
     double bmin[3], bmax[3]; /* world bbox of the active voxels */
     double background;     /* exterior background value (world units, > 0) */
     double interior_band;  /* depth inside to which values are distances:
-                              the grid's -(most negative value) */
+                              the grid's -(most negative value), inactive
+                              values included (they hold the band) */
     size_t active_voxels;
     size_t inside_voxels;  /* active voxels < 0 (tiles counted by voxel) */
     double volume;         /* world volume inside (OpenVDB level-set measure) */
@@ -69,6 +70,25 @@ int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth,
                                  char *err, size_t errlen);
 
 void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info);
+
+/* The level set's 8^3-voxel blocks (its leaf nodes' footprint) over the
+ * leaves' bounding box plus one block on each side, x fastest: value[i] is
+ * NaN where the block holds a leaf node, else the value of the tile that
+ * covers it (the background's magnitude; negative inside). Block (0,0,0)
+ * starts at world origin[] and spans block = 8 voxels on each axis; a world
+ * point p lies in block floor((p - origin) / block). Only for axis-aligned
+ * uniform-scale transforms (VP_ERR_NOT_LEVEL_SET otherwise), and at most
+ * max_blocks blocks (VP_ERR_OUT_OF_MEMORY otherwise). out->value is
+ * malloc'd and owned by the caller (free). */
+typedef struct vpv_blocks {
+    double origin[3];
+    double block, voxel;
+    double background;     /* |the grid's background| (the exterior band) */
+    int64_t dims[3];
+    float *value;
+} vpv_blocks;
+int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vpv_blocks *out,
+                        char *err, size_t errlen);
 
 /* Trilinear sample of the signed distance at world point p. Outside the
  * narrow band the background (+ outside, - inside) is returned.

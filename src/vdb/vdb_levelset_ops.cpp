@@ -13,12 +13,26 @@ using namespace vpv;
 
 namespace {
 
-// -(smallest active value, tiles included); 0 for an empty grid.
+// -(smallest value, active or not, tiles included); 0 for an empty grid.
+// Inactive values count: in a narrow-band level set the inactive voxels
+// inside hold -(interior band), which says "at least this deep", so the
+// band is that width even where (a grid-aligned flat wall) no active
+// voxel happens to lie deeper than a whole voxel less.
 double interior_band(const openvdb::FloatGrid &g)
 {
-    if (g.tree().activeVoxelCount() == 0) return 0.0;
-    openvdb::math::MinMax<float> mm = openvdb::tools::minMax(g.tree());
-    return std::max(0.0, -double(mm.min()));
+    const openvdb::FloatTree &t = g.tree();
+    if (t.activeVoxelCount() == 0) return 0.0;
+    float mn = openvdb::tools::minMax(t).min();
+    for (auto leaf = t.cbeginLeaf(); leaf; ++leaf) {
+        const float *v = leaf->buffer().data();
+        if (!v) continue;
+        for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i)
+            mn = std::min(mn, v[i]);
+    }
+    auto tile = t.cbeginValueOff();
+    tile.setMaxDepth(openvdb::FloatTree::ValueOffCIter::LEAF_DEPTH - 1); // tiles only
+    for (; tile; ++tile) mn = std::min(mn, *tile);
+    return std::max(0.0, -double(mn));
 }
 
 } // namespace
