@@ -307,7 +307,7 @@ static double face_only(const vp_polyhedron *a, double va[][3], double na[][3],
 }
 
 static void test_sat_random(void) {
-    int checked = 0, overl = 0, sep = 0, edge_only = 0;
+    int checked = 0, overl = 0, sep = 0, edge_only = 0, posed_checked = 0;
     for (int it = 0; it < 6000; ++it) {
         vp_shape sa = (vp_shape)(1 + it % 5), sb = (vp_shape)(1 + (it / 5) % 5);
         const vp_polyhedron *a = vp_shape_polyhedron(sa), *b = vp_shape_polyhedron(sb);
@@ -331,6 +331,15 @@ static void test_sat_random(void) {
         /* never more than the centre gap minus the inscribed radii, never
          * less than minus the bounding radii */
         ASSERT_LE(s, dist - lo + 1e-12);
+        /* the posed test (the packers' early-exit form) gives the same
+         * answer on every pair, near-contact ones included, and posing
+         * relative to another origin gives the same separation */
+        vp_poly_posed pa, pb;
+        vp_poly_pose(a, ka, qa, ta, ta, &pa);
+        vp_poly_pose(b, kb, qb, tb, ta, &pb);
+        ASSERT_EQ_INT(vp_poly_posed_overlap(&pa, &pb), s < 0);
+        ASSERT_TRUE(vp_poly_posed_separation(&pa, &pb) == s);
+        posed_checked++;
         if (fabs(s) <= 1e-3) continue;
         double va[VP_POLY_MAX_VERTS][3], vb[VP_POLY_MAX_VERTS][3];
         double na[VP_POLY_MAX_FACES][3], nb[VP_POLY_MAX_FACES][3], da[VP_POLY_MAX_FACES], db[VP_POLY_MAX_FACES];
@@ -354,6 +363,7 @@ static void test_sat_random(void) {
     fprintf(stderr, "   random SAT pairs checked: %d (overlapping %d, separated %d, of which %d "
                     "only by an edge-edge axis)\n", checked, overl, sep, edge_only);
     ASSERT_TRUE(checked > 3000);
+    ASSERT_EQ_INT(posed_checked, 6000);
     ASSERT_TRUE(overl > 500);
     ASSERT_TRUE(sep > 500);
     ASSERT_TRUE(edge_only > 20);
@@ -387,6 +397,10 @@ static void test_sat_contact(void) {
         for (int c = 0; c < 3; ++c) tb[c] = ta[c] + hi * dir[c] / dn;
         double s = vp_poly_separation(a, 1, qa, ta, b, 1, qb, tb);
         ASSERT_NEAR(s, 0.0, 1e-9);
+        vp_poly_posed pa, pb;
+        vp_poly_pose(a, 1, qa, ta, ta, &pa);
+        vp_poly_pose(b, 1, qb, tb, ta, &pb);
+        ASSERT_EQ_INT(vp_poly_posed_overlap(&pa, &pb), s < 0);
         ++n;
     }
     ASSERT_EQ_INT(n, 300);

@@ -250,80 +250,89 @@ static double vp_axis_gap(const double (*wa)[3], int na, const double (*wb)[3], 
     return g1 > g2 ? g1 : g2;
 }
 
-double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
-                          const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]) {
+void vp_poly_pose(const vp_polyhedron *p, double scale, const double q[4], const double t[3],
+                  const double o[3], vp_poly_posed *out) {
     static const double qid[4] = {0, 0, 0, 1};
     static const double tzero[3] = {0, 0, 0};
-    if (!qa) qa = qid;
-    if (!qb) qb = qid;
-    if (!ta) ta = tzero;
-    if (!tb) tb = tzero;
-    double ma[3][3], mb[3][3];
-    vp_quat_to_matrix(qa, ma);
-    vp_quat_to_matrix(qb, mb);
-    /* Work relative to a's centre to keep the numbers small. */
-    double rel[3] = {tb[0] - ta[0], tb[1] - ta[1], tb[2] - ta[2]};
-    double wa[VP_POLY_MAX_VERTS][3], wb[VP_POLY_MAX_VERTS][3];
-    for (int i = 0; i < a->nverts; ++i)
+    if (!q) q = qid;
+    if (!t) t = tzero;
+    if (!o) o = tzero;
+    double m[3][3];
+    vp_quat_to_matrix(q, m);
+    double rel[3] = {t[0] - o[0], t[1] - o[1], t[2] - o[2]};
+    out->nverts = p->nverts;
+    for (int i = 0; i < p->nverts; ++i)
         for (int r = 0; r < 3; ++r)
-            wa[i][r] = sa * (ma[r][0] * a->verts[i][0] + ma[r][1] * a->verts[i][1] + ma[r][2] * a->verts[i][2]);
-    for (int i = 0; i < b->nverts; ++i)
+            out->w[i][r] = rel[r] + scale * (m[r][0] * p->verts[i][0] + m[r][1] * p->verts[i][1] +
+                                             m[r][2] * p->verts[i][2]);
+    /* rotated SAT directions (raw normals/edges when the helper fields are
+     * not filled in) */
+    int useh = p->nface_dirs > 0 && p->nedge_dirs > 0;
+    out->nface = useh ? p->nface_dirs : p->nfaces;
+    out->nedge = useh ? p->nedge_dirs : p->nedges;
+    for (int f = 0; f < out->nface; ++f) {
+        const double *n = useh ? p->face_dirs[f] : p->normals[f];
         for (int r = 0; r < 3; ++r)
-            wb[i][r] = rel[r] + sb * (mb[r][0] * b->verts[i][0] + mb[r][1] * b->verts[i][1] + mb[r][2] * b->verts[i][2]);
-    /* Rotated SAT directions (fall back to raw normals/edges when the
-     * helper fields are not filled in). */
-    double fa[VP_POLY_MAX_FACES][3], fb[VP_POLY_MAX_FACES][3], ea[30][3], eb[30][3];
-    int nfa, nfb, nea, neb;
-    const vp_polyhedron *src[2] = {a, b};
-    double (*fd[2])[3] = {fa, fb}, (*ed[2])[3] = {ea, eb};
-    int *nf[2] = {&nfa, &nfb}, *ne[2] = {&nea, &neb};
-    double (*mm[2])[3] = {ma, mb};
-    for (int s = 0; s < 2; ++s) {
-        const vp_polyhedron *p = src[s];
-        int useh = p->nface_dirs > 0 && p->nedge_dirs > 0;
-        int nface = useh ? p->nface_dirs : p->nfaces;
-        int nedge = useh ? p->nedge_dirs : p->nedges;
-        for (int f = 0; f < nface; ++f) {
-            const double *n = useh ? p->face_dirs[f] : p->normals[f];
-            for (int r = 0; r < 3; ++r)
-                fd[s][f][r] = mm[s][r][0] * n[0] + mm[s][r][1] * n[1] + mm[s][r][2] * n[2];
-        }
-        for (int e = 0; e < nedge; ++e) {
-            double d[3];
-            if (useh) {
-                memcpy(d, p->edge_dirs[e], sizeof d);
-            } else {
-                for (int c = 0; c < 3; ++c) d[c] = p->verts[p->edges[e][1]][c] - p->verts[p->edges[e][0]][c];
-                double l = vp_norm3(d);
-                for (int c = 0; c < 3; ++c) d[c] /= l;
-            }
-            for (int r = 0; r < 3; ++r)
-                ed[s][e][r] = mm[s][r][0] * d[0] + mm[s][r][1] * d[1] + mm[s][r][2] * d[2];
-        }
-        *nf[s] = nface;
-        *ne[s] = nedge;
+            out->f[f][r] = m[r][0] * n[0] + m[r][1] * n[1] + m[r][2] * n[2];
     }
+    for (int e = 0; e < out->nedge; ++e) {
+        double d[3];
+        if (useh) {
+            memcpy(d, p->edge_dirs[e], sizeof d);
+        } else {
+            for (int c = 0; c < 3; ++c) d[c] = p->verts[p->edges[e][1]][c] - p->verts[p->edges[e][0]][c];
+            double l = vp_norm3(d);
+            for (int c = 0; c < 3; ++c) d[c] /= l;
+        }
+        for (int r = 0; r < 3; ++r) out->e[e][r] = m[r][0] * d[0] + m[r][1] * d[1] + m[r][2] * d[2];
+    }
+}
+
+/* The SAT over both posed solids: the largest gap, or (stop_at_zero) the
+ * first gap >= 0 as soon as one is found. */
+static double posed_sat(const vp_poly_posed *a, const vp_poly_posed *b, int stop_at_zero) {
+    const double (*wa)[3] = (const double (*)[3])a->w, (*wb)[3] = (const double (*)[3])b->w;
     double best = -HUGE_VAL;
-    for (int f = 0; f < nfa; ++f) {
-        double g = vp_axis_gap((const double (*)[3])wa, a->nverts, (const double (*)[3])wb, b->nverts, fa[f]);
+    for (int f = 0; f < a->nface; ++f) {
+        double g = vp_axis_gap(wa, a->nverts, wb, b->nverts, a->f[f]);
         if (g > best) best = g;
+        if (stop_at_zero && best >= 0.0) return best;
     }
-    for (int f = 0; f < nfb; ++f) {
-        double g = vp_axis_gap((const double (*)[3])wa, a->nverts, (const double (*)[3])wb, b->nverts, fb[f]);
+    for (int f = 0; f < b->nface; ++f) {
+        double g = vp_axis_gap(wa, a->nverts, wb, b->nverts, b->f[f]);
         if (g > best) best = g;
+        if (stop_at_zero && best >= 0.0) return best;
     }
-    for (int i = 0; i < nea; ++i)
-        for (int j = 0; j < neb; ++j) {
+    for (int i = 0; i < a->nedge; ++i)
+        for (int j = 0; j < b->nedge; ++j) {
             double c[3];
-            vp_cross3(ea[i], eb[j], c);
+            vp_cross3(a->e[i], b->e[j], c);
             double l = vp_norm3(c);
             /* (nearly) parallel edges: the axis is ill-defined and is
              * covered by the face normals; skipping it can only make the
              * answer more conservative. */
             if (l < 1e-6) continue;
             c[0] /= l; c[1] /= l; c[2] /= l;
-            double g = vp_axis_gap((const double (*)[3])wa, a->nverts, (const double (*)[3])wb, b->nverts, c);
+            double g = vp_axis_gap(wa, a->nverts, wb, b->nverts, c);
             if (g > best) best = g;
+            if (stop_at_zero && best >= 0.0) return best;
         }
     return best;
+}
+
+double vp_poly_posed_separation(const vp_poly_posed *a, const vp_poly_posed *b) {
+    return posed_sat(a, b, 0);
+}
+
+int vp_poly_posed_overlap(const vp_poly_posed *a, const vp_poly_posed *b) {
+    return !(posed_sat(a, b, 1) >= 0.0);
+}
+
+double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
+                          const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]) {
+    /* relative to a's centre, to keep the numbers small */
+    vp_poly_posed pa, pb;
+    vp_poly_pose(a, sa, qa, ta, ta, &pa);
+    vp_poly_pose(b, sb, qb, tb, ta, &pb);
+    return posed_sat(&pa, &pb, 0);
 }

@@ -41,6 +41,24 @@ const vp_polyhedron *vp_shape_polyhedron(vp_shape s);
 double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
                           const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]);
 
+/* A polyhedron placed at (scale, q, t) (q, t NULL: identity, origin),
+ * relative to origin o (NULL: 0; use one centre for both solids of a test
+ * to keep the numbers small): its vertices and rotated SAT directions.
+ * Posing a solid once serves all its tests against neighbours. */
+typedef struct vp_poly_posed {
+    int nverts, nface, nedge;
+    double w[VP_POLY_MAX_VERTS][3];
+    double f[VP_POLY_MAX_FACES][3];
+    double e[30][3];
+} vp_poly_posed;
+void vp_poly_pose(const vp_polyhedron *p, double scale, const double q[4], const double t[3],
+                  const double o[3], vp_poly_posed *out);
+/* vp_poly_separation of two posed solids (same origin). */
+double vp_poly_posed_separation(const vp_poly_posed *a, const vp_poly_posed *b);
+/* 1 when they overlap: the same answer as vp_poly_separation(...) < 0 (no
+ * SAT axis with a gap >= 0), but returns at the first separating axis. */
+int vp_poly_posed_overlap(const vp_poly_posed *a, const vp_poly_posed *b);
+
 /* Largest signed container distance (negative inside) over the surface of
  * the polyhedron placed at (scale, q, t) (q NULL: identity): its vertices
  * and, when the container is a level set of voxel size h, points of every

@@ -22,16 +22,19 @@ double interior_band(const openvdb::FloatGrid &g)
 {
     const openvdb::FloatTree &t = g.tree();
     if (t.activeVoxelCount() == 0) return 0.0;
-    float mn = openvdb::tools::minMax(t).min();
+    const float active = openvdb::tools::minMax(t).min();
+    float mn = active;
+    auto tile = t.cbeginValueOff();
+    tile.setMaxDepth(openvdb::FloatTree::ValueOffCIter::LEAF_DEPTH - 1); // tiles only
+    for (; tile; ++tile) mn = std::min(mn, *tile);
+    if (mn < active) return -double(mn); // tiles inside: they hold the band
+    // no deeper tile (a thin container): the leaves' inactive voxels
     for (auto leaf = t.cbeginLeaf(); leaf; ++leaf) {
         const float *v = leaf->buffer().data();
         if (!v) continue;
         for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i)
             mn = std::min(mn, v[i]);
     }
-    auto tile = t.cbeginValueOff();
-    tile.setMaxDepth(openvdb::FloatTree::ValueOffCIter::LEAF_DEPTH - 1); // tiles only
-    for (; tile; ++tile) mn = std::min(mn, *tile);
     return std::max(0.0, -double(mn));
 }
 
