@@ -176,12 +176,21 @@ int make_deterministic(const char *path, char *err, size_t errlen)
         bool ok = (i == 8 || i == 13 || i == 18 || i == 23) ? c == '-' : isxdigit(c);
         if (!ok) { fclose(f); return VP_OK; } // unknown layout: leave it
     }
-    // Two FNV-1a style 64-bit hashes of everything after the UUID.
+    // Two FNV-1a style 64-bit hashes of everything after the UUID, fed 8
+    // bytes at a time (a byte at a time took a few tenths of a second on a
+    // 100 MB file); the bytes of a partial last word are fed singly.
     uint64_t h1 = 1469598103934665603ull, h2 = 0x9e3779b97f4a7c15ull;
     std::vector<unsigned char> buf(1 << 20);
     size_t n;
     while ((n = fread(buf.data(), 1, buf.size(), f)) > 0) {
-        for (size_t i = 0; i < n; ++i) {
+        size_t i = 0;
+        for (; i + 8 <= n; i += 8) {
+            uint64_t w;
+            memcpy(&w, buf.data() + i, 8);
+            h1 = (h1 ^ w) * 1099511628211ull;
+            h2 = (h2 ^ (w >> 7 | w << 57)) * 0x100000001b3ull + 0x632be59bd9b4e019ull;
+        }
+        for (; i < n; ++i) {
             h1 = (h1 ^ buf[i]) * 1099511628211ull;
             h2 = (h2 ^ buf[i]) * 0x100000001b3ull + 0x632be59bd9b4e019ull;
         }

@@ -4,6 +4,9 @@
 #include <openvdb/tools/Count.h>
 #include <openvdb/tools/LevelSetMeasure.h>
 #include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -111,9 +114,20 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
             }
         }
 
-        size_t inside = 0;
-        for (auto it = t.cbeginValueOn(); it; ++it)
-            if (*it < 0.0f) inside += size_t(it.getVoxelCount());
+        // active voxels below zero: the leaves in parallel, then the tiles
+        openvdb::tree::LeafManager<const openvdb::FloatTree> lm(t);
+        size_t inside = tbb::parallel_reduce(
+            lm.leafRange(), size_t(0),
+            [](const openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange &r, size_t n) {
+                for (auto leaf = r.begin(); leaf; ++leaf)
+                    for (auto it = leaf->cbeginValueOn(); it; ++it) n += *it < 0.0f;
+                return n;
+            },
+            [](size_t a, size_t b) { return a + b; });
+        auto tile = t.cbeginValueOn();
+        tile.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1); // tiles only
+        for (; tile; ++tile)
+            if (*tile < 0.0f) inside += size_t(tile.getVoxelCount());
         info->inside_voxels = inside;
 
         try {
