@@ -263,7 +263,7 @@ typedef struct classified {
  * packing differ by a few particles in a million, below what the
  * subsample resolves, and what it picks is regenerated and counted
  * exactly; this keeps the search's cost flat in the packing's size. */
-#define VP_AMB_MAX 131072
+#define VP_AMB_MAX 65536
 
 /* slab_stride > 1: classifies every slab_stride-th slab only, and scales
  * the counts (an estimate, for stepping the radius of a large packing). */
@@ -419,7 +419,7 @@ typedef struct search_cfg {
 
 /* Point tests the automatic search may spend per stage (about
  * a tenth of a second); explicit --offsets are not capped. */
-#define VP_SEARCH_BUDGET 1.0e6
+#define VP_SEARCH_BUDGET 5.0e5
 
 typedef struct search_stats {
     int offsets_tried;
