@@ -48,6 +48,14 @@ void vp_rsa_params_init(vp_rsa_params *p) {
 
 typedef struct cell { uint32_t x, y, z; } cell;
 
+/* Active cells are stored packed, 8 bytes each (21 bits per coordinate and
+ * the valid flag in bit 63), at the levels whose coordinates fit in 21
+ * bits, and as a plain `cell` (12 bytes) at finer levels, where few cells
+ * are left. Cells are the largest structure of a pass (several per
+ * particle at levels 1 to 3), so their size is the packer's memory. */
+#define PACK_BITS 21
+#define PACK_MASK ((1u << PACK_BITS) - 1u)
+
 typedef struct dart {
     double p[3];
     double q[4];  /* orientation (solids), as stored: float, renormalised */
@@ -85,8 +93,9 @@ typedef struct rsa {
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
     int split_blocked;    /* a split would exceed the budget: plain darts */
-    cell *cells;
-    size_t ncells, cap_cells;
+    int pack_levels;      /* levels <= this store cells packed (8 bytes) */
+    unsigned char *cells; /* ncells cells of csize bytes each */
+    size_t ncells, csize;
     uint64_t stream_seed;
     /* batch */
     dart *darts;
@@ -221,6 +230,33 @@ static int solid_free(const rsa *s, const double x[3], double d, const double q[
 
 /* --- active cells ------------------------------------------------------------- */
 
+static size_t cell_bytes(const rsa *s, int level) { return level <= s->pack_levels ? 8 : 12; }
+
+static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
+    cell c;
+    if (size == 8) {
+        uint64_t k;
+        memcpy(&k, buf + 8 * i, 8);
+        c.x = (uint32_t)k & PACK_MASK;
+        c.y = (uint32_t)(k >> PACK_BITS) & PACK_MASK;
+        c.z = ((uint32_t)(k >> (2 * PACK_BITS)) & PACK_MASK) | ((k >> 63) ? VALID_BIT : 0u);
+    } else {
+        memcpy(&c, buf + 12 * i, 12);
+    }
+    return c;
+}
+
+static void cell_store(unsigned char *buf, size_t size, size_t i, cell c) {
+    if (size == 8) {
+        uint64_t k = (uint64_t)c.x | (uint64_t)c.y << PACK_BITS |
+                     (uint64_t)(c.z & ~VALID_BIT) << (2 * PACK_BITS) |
+                     (uint64_t)((c.z & VALID_BIT) != 0) << 63;
+        memcpy(buf + 8 * i, &k, 8);
+    } else {
+        memcpy(buf + 12 * i, &c, 12);
+    }
+}
+
 static double cell_side(const rsa *s, int level) { return ldexp(s->a0, -level); }
 
 static void cell_center(const rsa *s, const cell *c, int level, double out[3]) {
@@ -284,27 +320,28 @@ static int keep_cell(const rsa *s, cell *c, int level) {
 /* Split work: parent cells [lo, hi) of chunk i into their own buffer. */
 typedef struct split_job {
     const rsa *s;
-    const cell *parents;
-    size_t nparents;
+    const unsigned char *parents; /* psize bytes each */
+    size_t nparents, psize, osize; /* parents; bytes of a parent, of a child */
     int child_level;     /* level of the output cells */
     int from_box;        /* level-0 build: "parents" are rows of the box */
     int64_t dims[3];
     size_t chunk;
-    cell **out;
+    unsigned char **out;
     size_t *nout, *cap;
+    size_t budget;       /* cells a chunk may make before the split gives up */
     int failed;
     int over;            /* a chunk alone exceeded the budget */
 } split_job;
 
-static int push_cell(cell **buf, size_t *n, size_t *cap, cell c) {
-    if (*n == *cap) {
-        size_t nc = *cap ? *cap * 2 : 256;
-        cell *b = realloc(*buf, nc * sizeof *b);
+static int push_cell(const split_job *j, size_t i, cell c) {
+    if (j->nout[i] == j->cap[i]) {
+        size_t nc = j->cap[i] ? j->cap[i] + j->cap[i] / 2 : 256;
+        unsigned char *b = realloc(j->out[i], nc * j->osize);
         if (!b) return -1;
-        *buf = b;
-        *cap = nc;
+        j->out[i] = b;
+        j->cap[i] = nc;
     }
-    (*buf)[(*n)++] = c;
+    cell_store(j->out[i], j->osize, j->nout[i]++, c);
     return 0;
 }
 
@@ -407,8 +444,7 @@ static void split_chunk(void *user, size_t i) {
             for (int64_t x = 0; x < j->dims[0]; x++) {
                 c.x = (uint32_t)x;
                 cell t = c;
-                if (keep_cell(j->s, &t, 0) && push_cell(&j->out[i], &j->nout[i], &j->cap[i], t))
-                    j->failed = 1;
+                if (keep_cell(j->s, &t, 0) && push_cell(j, i, t)) j->failed = 1;
             }
         }
         return;
@@ -426,11 +462,11 @@ static void split_chunk(void *user, size_t i) {
     }
     b->s = s;
     for (size_t k = lo; k < hi; k++) {
-        if (j->nout[i] > s->cell_budget) {
+        if (j->nout[i] > j->budget) {
             j->over = 1;
             break;
         }
-        cell p = j->parents[k];
+        cell p = cell_load(j->parents, j->psize, k);
         int pvalid = (p.z & VALID_BIT) != 0;
         uint32_t pz = p.z & ~VALID_BIT;
         double pm[3];
@@ -453,64 +489,132 @@ static void split_chunk(void *user, size_t i) {
             }
             if (box_excluded(s, b, m, h, v, depth, &hint)) continue;
             if (v) c.z |= VALID_BIT;
-            if (push_cell(&j->out[i], &j->nout[i], &j->cap[i], c)) j->failed = 1;
+            if (push_cell(j, i, c)) j->failed = 1;
         }
     }
     free(b);
 }
 
+/* Parents split per round: the parents are taken from the end of the
+ * array, and the array shrinks as they are used, so a split holds about
+ * max(parents, children) cells at once instead of parents + children. */
+#define SPLIT_ROUND 65536
+#define SPLIT_CHUNKS 64
+
+/* Gives the parents of a split that was given up back their place: the
+ * parents not yet split stay, and each split parent that kept a child is
+ * rebuilt from it (children of one parent are consecutive). A parent all
+ * of whose children were dropped holds no admissible centre, so leaving it
+ * out keeps the law. Its valid flag is recomputed (set only when proven). */
+static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, size_t osize) {
+    int level = s->level;
+    size_t n = np;
+    uint32_t lx = UINT32_MAX, ly = 0, lz = 0;
+    for (size_t i = 0; i < nout; i++) {
+        cell c = cell_load(out, osize, i);
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1};
+        if (p.x == lx && p.y == ly && p.z == lz) continue;
+        lx = p.x, ly = p.y, lz = p.z;
+        n++;
+    }
+    unsigned char *cells = realloc(s->cells, (n ? n : 1) * s->csize);
+    if (!cells) return vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+    s->cells = cells;
+    lx = UINT32_MAX;
+    n = np;
+    for (size_t i = 0; i < nout; i++) {
+        cell c = cell_load(out, osize, i);
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1};
+        if (p.x == lx && p.y == ly && p.z == lz) continue;
+        lx = p.x, ly = p.y, lz = p.z;
+        if (classify(s, &p, level) == 2) p.z |= VALID_BIT;
+        cell_store(s->cells, s->csize, n++, p);
+    }
+    s->ncells = n;
+    return VP_OK;
+}
+
 /* Replaces the active cells by the kept children of every active cell (or,
  * with from_box, by the kept level-0 cells of the whole box). */
 static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
-    size_t units = from_box ? (size_t)(dims[1] * dims[2]) : s->ncells;
-    size_t nchunks = units < 64 ? (units ? units : 1) : 64;
+    size_t nchunks = SPLIT_CHUNKS;
     split_job j;
     memset(&j, 0, sizeof j);
     j.s = s;
-    j.parents = s->cells;
-    j.nparents = s->ncells;
     j.child_level = from_box ? 0 : s->level + 1;
     j.from_box = from_box;
+    j.psize = s->csize;
+    j.osize = cell_bytes(s, j.child_level);
     if (from_box) memcpy(j.dims, dims, sizeof j.dims);
-    j.chunk = (units + nchunks - 1) / nchunks;
-    if (!j.chunk) j.chunk = 1;
     j.out = calloc(nchunks, sizeof *j.out);
     j.nout = calloc(nchunks, sizeof *j.nout);
     j.cap = calloc(nchunks, sizeof *j.cap);
+    unsigned char *out = NULL;
+    size_t nout = 0, cap = 0;
+    size_t np = from_box ? 0 : s->ncells, rounds = 0;
     vp_result r = VP_OK;
     if (!j.out || !j.nout || !j.cap) {
         r = VP_ERR_OUT_OF_MEMORY;
         goto done;
     }
-    vp_parallel_for(s->threads, nchunks, split_chunk, &j);
-    if (j.failed) {
-        r = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    size_t total = 0;
-    for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
-    if (!from_box && (j.over || total > s->cell_budget)) {
-        /* finer cells would take more memory than the budget allows: go on
-         * with darts at this level (plain RSA in these cells) */
-        s->split_blocked = 1;
-        goto done;
-    }
-    cell *cells = malloc((total ? total : 1) * sizeof *cells);
-    if (!cells) {
-        r = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    size_t at = 0;
-    for (size_t i = 0; i < nchunks; i++) {
-        if (j.nout[i]) memcpy(cells + at, j.out[i], j.nout[i] * sizeof *cells);
-        at += j.nout[i];
+    for (int first = 1; first || np > 0; first = 0) {
+        size_t take = np < SPLIT_ROUND ? np : SPLIT_ROUND;
+        size_t units = from_box ? (size_t)(dims[1] * dims[2]) : take;
+        j.parents = from_box ? NULL : s->cells + (np - take) * j.psize;
+        j.nparents = take;
+        j.chunk = (units + nchunks - 1) / nchunks;
+        if (!j.chunk) j.chunk = 1;
+        j.budget = s->cell_budget - nout;
+        memset(j.nout, 0, nchunks * sizeof *j.nout);
+        vp_parallel_for(s->threads, nchunks, split_chunk, &j);
+        if (j.failed) {
+            r = VP_ERR_OUT_OF_MEMORY;
+            goto done;
+        }
+        size_t total = 0;
+        for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
+        if (!from_box && (j.over || total > s->cell_budget - nout)) {
+            /* finer cells would take more memory than the budget allows: go on
+             * with darts at this level (plain RSA in these cells) */
+            s->split_blocked = 1;
+            r = unsplit(s, np, out, nout, j.osize);
+            goto done;
+        }
+        if (nout + total > cap) {
+            size_t nc = cap + cap / 2;
+            if (nc < nout + total) nc = nout + total;
+            if (!from_box && nc > 8 * (nout + np)) nc = 8 * (nout + np); /* at most 8 children */
+            unsigned char *b = realloc(out, (nc ? nc : 1) * j.osize);
+            if (!b) {
+                r = VP_ERR_OUT_OF_MEMORY;
+                goto done;
+            }
+            out = b;
+            cap = nc;
+        }
+        for (size_t i = 0; i < nchunks; i++) {
+            if (j.nout[i]) memcpy(out + nout * j.osize, j.out[i], j.nout[i] * j.osize);
+            nout += j.nout[i];
+        }
+        if (from_box) break;
+        np -= take;
+        if (np && ++rounds % 8 == 0) { /* give the split parents' memory back */
+            unsigned char *b = realloc(s->cells, np * j.psize);
+            if (b) s->cells = b;
+        }
     }
     free(s->cells);
-    s->cells = cells;
-    s->ncells = total;
-    s->cap_cells = total;
+    if (nout < cap) { /* trim */
+        unsigned char *b = realloc(out, (nout ? nout : 1) * j.osize);
+        if (b) out = b;
+    }
+    s->cells = out;
+    out = NULL;
+    s->ncells = nout;
+    s->csize = j.osize;
     s->level = j.child_level;
 done:
+    free(out);
     if (j.out)
         for (size_t i = 0; i < nchunks; i++) free(j.out[i]);
     free(j.out);
@@ -537,12 +641,12 @@ static void make_darts(void *user, size_t ci) {
         dart *t = &s->darts[k];
         uint64_t st = vp_rng_stream(s->stream_seed, s->dart_base + k);
         uint32_t ci2 = (uint32_t)(vp_rng_next(&st) % s->ncells);
-        const cell *c = &s->cells[ci2];
+        const cell c = cell_load(s->cells, s->csize, ci2);
         t->cell = ci2;
-        t->p[0] = s->origin[0] + ((double)c->x + vp_rng_uniform(&st)) * a;
-        t->p[1] = s->origin[1] + ((double)c->y + vp_rng_uniform(&st)) * a;
-        t->p[2] = s->origin[2] + ((double)(c->z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
-        t->d = (c->z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
+        t->p[0] = s->origin[0] + ((double)c.x + vp_rng_uniform(&st)) * a;
+        t->p[1] = s->origin[1] + ((double)c.y + vp_rng_uniform(&st)) * a;
+        t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
+        t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
         if (s->solid) { /* the exact tests depend on the radius: on accepting */
             float f[4] = {0, 0, 0, 1};
@@ -635,6 +739,11 @@ static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
     *mean_ratio = last > first ? sum / (double)(last - first) : 1.0;
 }
 
+static int cmp_desc(const void *a, const void *b) {
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? 1 : x > y ? -1 : 0;
+}
+
 /* --- one pass ------------------------------------------------------------------------ */
 
 static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, uint64_t seed,
@@ -696,6 +805,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     /* cells no finer than 1e-5 of the radius (and coordinates within 31 bits) */
     s->max_level = (int)ceil(log2(a0 / (1e-5 * s->rmin)));
     if (s->max_level > 30 - bits) s->max_level = 30 - bits;
+    s->pack_levels = PACK_BITS - bits;
     s->level = 0;
     vp_result r = split_cells(s, 1, dims);
     if (r != VP_OK) return r;
@@ -711,10 +821,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     uint64_t dart_index = 0;
     size_t level_darts = 0; /* darts thrown at this level */
     rep->stop = VP_RSA_STOP_MAXIMAL;
-    uint8_t *hit = NULL;
-    size_t hit_cap = 0;
-    size_t *hits = NULL;
-    size_t nhits = 0;
+    uint32_t *hits = NULL; /* cells that received a sphere in this batch */
+    size_t hit_cap = 0, nhits = 0;
     int done = 0;
     while (!done) {
         if (s->ncells == 0) {
@@ -735,13 +843,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         dart_index += B;
         dart_job j = {s, (B + 63) / 64};
         vp_parallel_for(s->threads, 64, make_darts, &j);
-        if (s->ncells > hit_cap) {
-            free(hit);
-            hit_cap = s->ncells;
-            hit = calloc(hit_cap, 1);
-            free(hits);
-            hits = malloc(hit_cap * sizeof *hits);
-            if (!hit || !hits) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
+        if (B > hit_cap) {
+            uint32_t *h = realloc(hits, B * sizeof *hits);
+            if (!h) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
+            hits = h;
+            hit_cap = B;
         }
         nhits = 0;
         size_t ok = 0, used = 0;
@@ -801,10 +907,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             }
             ok++;
             /* the new sphere covers its cell for every later candidate */
-            if (diag <= s->rin * (s->rmin + cur_r) && !hit[t->cell]) {
-                hit[t->cell] = 1;
-                hits[nhits++] = t->cell;
-            }
+            if (diag <= s->rin * (s->rmin + cur_r)) hits[nhits++] = t->cell;
             rep->placed++;
             if (rep->placed >= want) {
                 rep->stop = VP_RSA_STOP_COUNT;
@@ -815,15 +918,20 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         }
         /* drop the cells that received a sphere, in dart order (swap with
          * the last cell that is not itself being dropped) */
-        for (size_t h = 0; h < nhits; h++) hit[hits[h]] = 0;
         if (nhits) {
-            /* sort hits descending so swaps never move a hit cell */
-            for (size_t h = 1; h < nhits; h++) {
-                size_t v = hits[h], m = h;
-                while (m > 0 && hits[m - 1] < v) { hits[m] = hits[m - 1]; m--; }
-                hits[m] = v;
+            /* sort hits descending so swaps never move a hit cell; a cell
+             * hit twice is dropped once */
+            qsort(hits, nhits, sizeof *hits, cmp_desc);
+            size_t u = 1;
+            for (size_t h = 1; h < nhits; h++)
+                if (hits[h] != hits[u - 1]) hits[u++] = hits[h];
+            nhits = u;
+            for (size_t h = 0; h < nhits; h++) {
+                --s->ncells;
+                if (hits[h] != s->ncells)
+                    memcpy(s->cells + hits[h] * s->csize, s->cells + s->ncells * s->csize,
+                           s->csize);
             }
-            for (size_t h = 0; h < nhits; h++) s->cells[hits[h]] = s->cells[--s->ncells];
         }
         if (r != VP_OK || done) break;
         if (!vp_report_progress(s->ctx,
@@ -850,7 +958,6 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
         }
     }
-    free(hit);
     free(hits);
     if (r != VP_OK) return r;
     if (rep->placed == 0 && first == 0 && s->p->count == 0)
@@ -986,7 +1093,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
             snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "pass%zu", i + 1);
     }
     size_t grid_cells = (size_t)(2.0 * estimate) + 4096;
-    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0) {
+    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0 ||
+        vp_sgrid_reserve(&s.g, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
+        vp_sgrid_free(&s.g);
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory for the neighbour grid");
     }
