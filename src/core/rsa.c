@@ -48,13 +48,16 @@ void vp_rsa_params_init(vp_rsa_params *p) {
 
 typedef struct cell { uint32_t x, y, z; } cell;
 
-/* Active cells are stored packed, 8 bytes each (21 bits per coordinate and
- * the valid flag in bit 63), at the levels whose coordinates fit in 21
- * bits, and as a plain `cell` (12 bytes) at finer levels, where few cells
- * are left. Cells are the largest structure of a pass (several per
- * particle at levels 1 to 3), so their size is the packer's memory. */
+/* Active cells are stored packed: 4 bytes (10 bits per coordinate and the
+ * valid flag in the top bit) at the levels whose coordinates fit in 10
+ * bits, 8 bytes (21 bits each) where they fit in 21, and as a plain `cell`
+ * (12 bytes) at finer levels, where few cells are left. Cells are the
+ * largest structure of a pass (several per particle at levels 1 to 3), so
+ * their size is most of the packer's memory. */
 #define PACK_BITS 21
 #define PACK_MASK ((1u << PACK_BITS) - 1u)
+#define PACK4_BITS 10
+#define PACK4_MASK ((1u << PACK4_BITS) - 1u)
 
 typedef struct dart {
     double p[3];
@@ -93,7 +96,7 @@ typedef struct rsa {
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
     int split_blocked;    /* a split would exceed the budget: plain darts */
-    int pack_levels;      /* levels <= this store cells packed (8 bytes) */
+    int coord_bits;       /* bits of the level-0 cell coordinates */
     unsigned char *cells; /* ncells cells of csize bytes each */
     size_t ncells, csize;
     uint64_t stream_seed;
@@ -230,11 +233,20 @@ static int solid_free(const rsa *s, const double x[3], double d, const double q[
 
 /* --- active cells ------------------------------------------------------------- */
 
-static size_t cell_bytes(const rsa *s, int level) { return level <= s->pack_levels ? 8 : 12; }
+static size_t cell_bytes(const rsa *s, int level) {
+    int b = s->coord_bits + level; /* bits of a coordinate at this level */
+    return b <= PACK4_BITS ? 4 : b <= PACK_BITS ? 8 : 12;
+}
 
 static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
     cell c;
-    if (size == 8) {
+    if (size == 4) {
+        uint32_t k;
+        memcpy(&k, buf + 4 * i, 4);
+        c.x = k & PACK4_MASK;
+        c.y = (k >> PACK4_BITS) & PACK4_MASK;
+        c.z = ((k >> (2 * PACK4_BITS)) & PACK4_MASK) | (k & VALID_BIT);
+    } else if (size == 8) {
         uint64_t k;
         memcpy(&k, buf + 8 * i, 8);
         c.x = (uint32_t)k & PACK_MASK;
@@ -247,7 +259,11 @@ static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
 }
 
 static void cell_store(unsigned char *buf, size_t size, size_t i, cell c) {
-    if (size == 8) {
+    if (size == 4) {
+        uint32_t k = c.x | c.y << PACK4_BITS | (c.z & ~VALID_BIT) << (2 * PACK4_BITS) |
+                     (c.z & VALID_BIT);
+        memcpy(buf + 4 * i, &k, 4);
+    } else if (size == 8) {
         uint64_t k = (uint64_t)c.x | (uint64_t)c.y << PACK_BITS |
                      (uint64_t)(c.z & ~VALID_BIT) << (2 * PACK_BITS) |
                      (uint64_t)((c.z & VALID_BIT) != 0) << 63;
@@ -498,7 +514,7 @@ static void split_chunk(void *user, size_t i) {
 /* Parents split per round: the parents are taken from the end of the
  * array, and the array shrinks as they are used, so a split holds about
  * max(parents, children) cells at once instead of parents + children. */
-#define SPLIT_ROUND 65536
+#define SPLIT_ROUND 32768
 #define SPLIT_CHUNKS 64
 
 /* Gives the parents of a split that was given up back their place: the
@@ -551,7 +567,7 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
     j.cap = calloc(nchunks, sizeof *j.cap);
     unsigned char *out = NULL;
     size_t nout = 0, cap = 0;
-    size_t np = from_box ? 0 : s->ncells, rounds = 0;
+    size_t np = from_box ? 0 : s->ncells;
     vp_result r = VP_OK;
     if (!j.out || !j.nout || !j.cap) {
         r = VP_ERR_OUT_OF_MEMORY;
@@ -582,6 +598,8 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
         }
         if (nout + total > cap) {
             size_t nc = cap + cap / 2;
+            if (!cap && !from_box) /* the first round's ratio, 5 % over */
+                nc = (size_t)((double)total / (double)(take ? take : 1) * 1.05 * (double)np) + 1024;
             if (nc < nout + total) nc = nout + total;
             if (!from_box && nc > 8 * (nout + np)) nc = 8 * (nout + np); /* at most 8 children */
             unsigned char *b = realloc(out, (nc ? nc : 1) * j.osize);
@@ -598,7 +616,7 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
         }
         if (from_box) break;
         np -= take;
-        if (np && ++rounds % 8 == 0) { /* give the split parents' memory back */
+        if (np) { /* give the split parents' memory back */
             unsigned char *b = realloc(s->cells, np * j.psize);
             if (b) s->cells = b;
         }
@@ -805,7 +823,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     /* cells no finer than 1e-5 of the radius (and coordinates within 31 bits) */
     s->max_level = (int)ceil(log2(a0 / (1e-5 * s->rmin)));
     if (s->max_level > 30 - bits) s->max_level = 30 - bits;
-    s->pack_levels = PACK_BITS - bits;
+    s->coord_bits = bits;
     s->level = 0;
     vp_result r = split_cells(s, 1, dims);
     if (r != VP_OK) return r;
