@@ -491,8 +491,10 @@ static void split_chunk(void *user, size_t i) {
         size_t hint = 0;
         b->m = pm;
         b->half = a;
-        if (s->p->count)
-            vp_sgrid_query(&s->g, pm, s->rmin + a * sqrt(3.0), gather_visit, b);
+        if (s->p->count) { /* balls (radius rin (rmin + r_j) <= rmin + r_j) meeting the parent */
+            double blo[3] = {pm[0] - a, pm[1] - a, pm[2] - a}, bhi[3] = {pm[0] + a, pm[1] + a, pm[2] + a};
+            vp_sgrid_query_box(&s->g, blo, bhi, s->rmin, gather_visit, b);
+        }
         for (int o = 0; o < 8; o++) {
             cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1)};
             double m[3];

@@ -107,16 +107,16 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r) {
     if (r > L->rmax) L->rmax = r;
 }
 
-int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
-                   void *user) {
+int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
+                       vp_sgrid_visit fn, void *user) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
         if (L->rmax <= 0) continue; /* empty level */
         double R = reach + L->rmax;
         int64_t a[3], b[3];
         for (int k = 0; k < 3; k++) {
-            a[k] = cell_coord(L, p[k] - R, g->origin[k], k);
-            b[k] = cell_coord(L, p[k] + R, g->origin[k], k);
+            a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
+            b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
         }
         for (int64_t z = a[2]; z <= b[2]; z++)
             for (int64_t y = a[1]; y <= b[1]; y++) {
@@ -127,6 +127,11 @@ int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_
             }
     }
     return 0;
+}
+
+int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
+                   void *user) {
+    return vp_sgrid_query_box(g, p, p, reach, fn, user);
 }
 
 size_t vp_sgrid_bytes(const vp_sgrid *g) {

@@ -58,6 +58,12 @@ typedef int (*vp_sgrid_visit)(void *user, uint32_t j);
 int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
                    void *user);
 
+/* The same for every particle j that may lie within `reach` + r_j of the
+ * box [lo, hi] (per axis: a superset of the particles whose ball of radius
+ * reach + r_j meets the box). */
+int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
+                       vp_sgrid_visit fn, void *user);
+
 /* Bytes the grid holds. */
 size_t vp_sgrid_bytes(const vp_sgrid *g);
 #endif
