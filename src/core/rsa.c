@@ -33,6 +33,7 @@
 #include <string.h>
 
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
+#define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
@@ -85,6 +86,10 @@ typedef struct rsa {
     double reach;         /* bounding radius of what the overlap test compares, per
                              unit radius: 1, or the box's farthest corner (bbox) */
     double max_r;         /* largest radius placed so far */
+    double uni_r;         /* the radius of every particle placed so far, or 0 when
+                             they differ: the neighbour tests then skip the load
+                             of radii[j], a cache miss (particles are in placement
+                             order, their neighbours anywhere in memory) */
     double unit_volume;   /* of the shape at bounding radius 1 */
     double lipschitz;     /* bound on |grad distance|: 1 analytic, sqrt(3) for
                              level sets (trilinear interpolation) */
@@ -144,6 +149,7 @@ static int reserve(vp_particles *p, size_t want) {
 
 typedef struct clr_query {
     const vp_particles *p;
+    double ur;     /* every radius, or 0 */
     const double *x;
     double best;   /* min |x - c_j| - r_j so far */
     double stop;   /* stop as soon as best < stop */
@@ -157,7 +163,7 @@ static int clr_visit(void *user, uint32_t j) {
     if (j < q->from || j >= q->upto || j == q->skip) return 0;
     const double *c = q->p->positions + 3 * (size_t)j;
     double dx = q->x[0] - c[0], dy = q->x[1] - c[1], dz = q->x[2] - c[2];
-    double r = q->p->radii[j];
+    double r = q->ur > 0 ? q->ur : q->p->radii[j];
     double lim = q->best + r; /* only a closer surface matters */
     double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 >= lim * lim) return 0;
@@ -169,7 +175,7 @@ static int clr_visit(void *user, uint32_t j) {
  * reach (else reach), stopping early once below stop. */
 static double clearance(const rsa *s, const double x[3], double reach, double stop, size_t from,
                         size_t upto) {
-    clr_query q = {s->p, x, reach, stop, from, upto, SIZE_MAX};
+    clr_query q = {s->p, s->uni_r, x, reach, stop, from, upto, SIZE_MAX};
     vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
     return q.best;
 }
@@ -298,6 +304,7 @@ static int classify(const rsa *s, const cell *c, int level) {
 
 typedef struct cover_query {
     const vp_particles *p;
+    double ur;
     const double *m;
     double half;
     double rmin;
@@ -307,7 +314,7 @@ typedef struct cover_query {
 static int cover_visit(void *user, uint32_t j) {
     cover_query *q = user;
     const double *c = q->p->positions + 3 * (size_t)j;
-    double e = q->rin * (q->rmin + q->p->radii[j]), f = 0.0;
+    double e = q->rin * (q->rmin + (q->ur > 0 ? q->ur : q->p->radii[j])), f = 0.0;
     for (int k = 0; k < 3; k++) {
         double t = fabs(q->m[k] - c[k]) + q->half;
         f += t * t;
@@ -321,7 +328,7 @@ static int covered(const rsa *s, const cell *c, int level) {
     if (!s->p->count) return 0;
     double a = cell_side(s, level), m[3];
     cell_center(s, c, level, m);
-    cover_query q = {s->p, m, 0.5 * a, s->rmin, s->rin};
+    cover_query q = {s->p, s->uni_r, m, 0.5 * a, s->rmin, s->rin};
     return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
 }
 
@@ -386,7 +393,8 @@ typedef struct ball_list {
 static int gather_visit(void *user, uint32_t j) {
     ball_list *b = user;
     const double *c = b->s->p->positions + 3 * (size_t)j;
-    double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]), d2 = 0.0;
+    double e = b->s->rin * (b->s->rmin + (b->s->uni_r > 0 ? b->s->uni_r : b->s->p->radii[j])),
+           d2 = 0.0;
     for (int k = 0; k < 3; k++) { /* distance from c to the parent box */
         double t = fabs(b->m[k] - c[k]) - b->half;
         if (t > 0) d2 += t * t;
@@ -693,7 +701,7 @@ static double grow_one(const rsa *s, size_t i, double diag) {
     if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x);
     double reach = wall < HUGE_VAL ? wall : 4.0 * s->p->radii[i];
     for (;;) {
-        clr_query q = {s->p, x, reach, -HUGE_VAL, 0, s->p->count, i};
+        clr_query q = {s->p, s->uni_r, x, reach, -HUGE_VAL, 0, s->p->count, i};
         vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
         if (q.best < reach) return q.best; /* exact: every closer surface was seen */
         if (reach >= wall || reach >= diag) return reach;
@@ -751,6 +759,7 @@ static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
         while ((double)rf > target) rf = nextafterf(rf, 0.0f);
         if ((double)rf > r0) {
             s->p->radii[i] = rf;
+            s->uni_r = 0.0;
             if (rf > s->max_r) s->max_r = rf;
             vp_sgrid_grow(&s->g, (uint32_t)i, rf);
         }
@@ -917,6 +926,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             memcpy(s->p->positions + 3 * i, t->p, sizeof t->p);
             s->p->radii[i] = (float)cur_r;
             if (cur_r > s->max_r) s->max_r = cur_r;
+            if (i == 0) s->uni_r = (float)cur_r;
+            else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
             s->p->groups[i] = (uint16_t)pass_index;
             if (s->solid)
                 for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)t->q[m];
@@ -964,7 +975,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         }
         level_darts += used;
         if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
-            level_darts >= 2 * s->ncells) {
+            level_darts >= SPLIT_DARTS * s->ncells) {
             level_darts = 0;
             if (s->level >= s->max_level) {
                 /* cells this small are below the numbers' resolution: what
