@@ -33,7 +33,7 @@
 #include <string.h>
 
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
-#define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
+#define SPLIT_DARTS 2          /* ... and this many darts per cell were thrown at the level */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
