@@ -33,6 +33,8 @@
 #include <string.h>
 
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
+#define SPLIT_NEED 12.0        /* count mode: darts still needed per cell that justify a split */
+#define SPLIT_DARTS 2          /* ... and this many darts per cell were thrown at the level */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
@@ -47,6 +49,17 @@ void vp_rsa_params_init(vp_rsa_params *p) {
 }
 
 typedef struct cell { uint32_t x, y, z; } cell;
+
+/* Active cells are stored packed: 4 bytes (10 bits per coordinate and the
+ * valid flag in the top bit) at the levels whose coordinates fit in 10
+ * bits, 8 bytes (21 bits each) where they fit in 21, and as a plain `cell`
+ * (12 bytes) at finer levels, where few cells are left. Cells are the
+ * largest structure of a pass (several per particle at levels 1 to 3), so
+ * their size is most of the packer's memory. */
+#define PACK_BITS 21
+#define PACK_MASK ((1u << PACK_BITS) - 1u)
+#define PACK4_BITS 10
+#define PACK4_MASK ((1u << PACK4_BITS) - 1u)
 
 typedef struct dart {
     double p[3];
@@ -74,6 +87,10 @@ typedef struct rsa {
     double reach;         /* bounding radius of what the overlap test compares, per
                              unit radius: 1, or the box's farthest corner (bbox) */
     double max_r;         /* largest radius placed so far */
+    double uni_r;         /* the radius of every particle placed so far, or 0 when
+                             they differ: the neighbour tests then skip the load
+                             of radii[j], a cache miss (particles are in placement
+                             order, their neighbours anywhere in memory) */
     double unit_volume;   /* of the shape at bounding radius 1 */
     double lipschitz;     /* bound on |grad distance|: 1 analytic, sqrt(3) for
                              level sets (trilinear interpolation) */
@@ -85,8 +102,9 @@ typedef struct rsa {
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
     int split_blocked;    /* a split would exceed the budget: plain darts */
-    cell *cells;
-    size_t ncells, cap_cells;
+    int coord_bits;       /* bits of the level-0 cell coordinates */
+    unsigned char *cells; /* ncells cells of csize bytes each */
+    size_t ncells, csize;
     uint64_t stream_seed;
     /* batch */
     dart *darts;
@@ -132,6 +150,7 @@ static int reserve(vp_particles *p, size_t want) {
 
 typedef struct clr_query {
     const vp_particles *p;
+    double ur;     /* every radius, or 0 */
     const double *x;
     double best;   /* min |x - c_j| - r_j so far */
     double stop;   /* stop as soon as best < stop */
@@ -145,7 +164,7 @@ static int clr_visit(void *user, uint32_t j) {
     if (j < q->from || j >= q->upto || j == q->skip) return 0;
     const double *c = q->p->positions + 3 * (size_t)j;
     double dx = q->x[0] - c[0], dy = q->x[1] - c[1], dz = q->x[2] - c[2];
-    double r = q->p->radii[j];
+    double r = q->ur > 0 ? q->ur : q->p->radii[j];
     double lim = q->best + r; /* only a closer surface matters */
     double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 >= lim * lim) return 0;
@@ -157,7 +176,7 @@ static int clr_visit(void *user, uint32_t j) {
  * reach (else reach), stopping early once below stop. */
 static double clearance(const rsa *s, const double x[3], double reach, double stop, size_t from,
                         size_t upto) {
-    clr_query q = {s->p, x, reach, stop, from, upto, SIZE_MAX};
+    clr_query q = {s->p, s->uni_r, x, reach, stop, from, upto, SIZE_MAX};
     vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
     return q.best;
 }
@@ -221,6 +240,46 @@ static int solid_free(const rsa *s, const double x[3], double d, const double q[
 
 /* --- active cells ------------------------------------------------------------- */
 
+static size_t cell_bytes(const rsa *s, int level) {
+    int b = s->coord_bits + level; /* bits of a coordinate at this level */
+    return b <= PACK4_BITS ? 4 : b <= PACK_BITS ? 8 : 12;
+}
+
+static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
+    cell c;
+    if (size == 4) {
+        uint32_t k;
+        memcpy(&k, buf + 4 * i, 4);
+        c.x = k & PACK4_MASK;
+        c.y = (k >> PACK4_BITS) & PACK4_MASK;
+        c.z = ((k >> (2 * PACK4_BITS)) & PACK4_MASK) | (k & VALID_BIT);
+    } else if (size == 8) {
+        uint64_t k;
+        memcpy(&k, buf + 8 * i, 8);
+        c.x = (uint32_t)k & PACK_MASK;
+        c.y = (uint32_t)(k >> PACK_BITS) & PACK_MASK;
+        c.z = ((uint32_t)(k >> (2 * PACK_BITS)) & PACK_MASK) | ((k >> 63) ? VALID_BIT : 0u);
+    } else {
+        memcpy(&c, buf + 12 * i, 12);
+    }
+    return c;
+}
+
+static void cell_store(unsigned char *buf, size_t size, size_t i, cell c) {
+    if (size == 4) {
+        uint32_t k = c.x | c.y << PACK4_BITS | (c.z & ~VALID_BIT) << (2 * PACK4_BITS) |
+                     (c.z & VALID_BIT);
+        memcpy(buf + 4 * i, &k, 4);
+    } else if (size == 8) {
+        uint64_t k = (uint64_t)c.x | (uint64_t)c.y << PACK_BITS |
+                     (uint64_t)(c.z & ~VALID_BIT) << (2 * PACK_BITS) |
+                     (uint64_t)((c.z & VALID_BIT) != 0) << 63;
+        memcpy(buf + 8 * i, &k, 8);
+    } else {
+        memcpy(buf + 12 * i, &c, 12);
+    }
+}
+
 static double cell_side(const rsa *s, int level) { return ldexp(s->a0, -level); }
 
 static void cell_center(const rsa *s, const cell *c, int level, double out[3]) {
@@ -246,6 +305,7 @@ static int classify(const rsa *s, const cell *c, int level) {
 
 typedef struct cover_query {
     const vp_particles *p;
+    double ur;
     const double *m;
     double half;
     double rmin;
@@ -255,7 +315,7 @@ typedef struct cover_query {
 static int cover_visit(void *user, uint32_t j) {
     cover_query *q = user;
     const double *c = q->p->positions + 3 * (size_t)j;
-    double e = q->rin * (q->rmin + q->p->radii[j]), f = 0.0;
+    double e = q->rin * (q->rmin + (q->ur > 0 ? q->ur : q->p->radii[j])), f = 0.0;
     for (int k = 0; k < 3; k++) {
         double t = fabs(q->m[k] - c[k]) + q->half;
         f += t * t;
@@ -269,7 +329,7 @@ static int covered(const rsa *s, const cell *c, int level) {
     if (!s->p->count) return 0;
     double a = cell_side(s, level), m[3];
     cell_center(s, c, level, m);
-    cover_query q = {s->p, m, 0.5 * a, s->rmin, s->rin};
+    cover_query q = {s->p, s->uni_r, m, 0.5 * a, s->rmin, s->rin};
     return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
 }
 
@@ -284,27 +344,28 @@ static int keep_cell(const rsa *s, cell *c, int level) {
 /* Split work: parent cells [lo, hi) of chunk i into their own buffer. */
 typedef struct split_job {
     const rsa *s;
-    const cell *parents;
-    size_t nparents;
+    const unsigned char *parents; /* psize bytes each */
+    size_t nparents, psize, osize; /* parents; bytes of a parent, of a child */
     int child_level;     /* level of the output cells */
     int from_box;        /* level-0 build: "parents" are rows of the box */
     int64_t dims[3];
     size_t chunk;
-    cell **out;
+    unsigned char **out;
     size_t *nout, *cap;
+    size_t budget;       /* cells a chunk may make before the split gives up */
     int failed;
     int over;            /* a chunk alone exceeded the budget */
 } split_job;
 
-static int push_cell(cell **buf, size_t *n, size_t *cap, cell c) {
-    if (*n == *cap) {
-        size_t nc = *cap ? *cap * 2 : 256;
-        cell *b = realloc(*buf, nc * sizeof *b);
+static int push_cell(const split_job *j, size_t i, cell c) {
+    if (j->nout[i] == j->cap[i]) {
+        size_t nc = j->cap[i] ? j->cap[i] + j->cap[i] / 2 : 256;
+        unsigned char *b = realloc(j->out[i], nc * j->osize);
         if (!b) return -1;
-        *buf = b;
-        *cap = nc;
+        j->out[i] = b;
+        j->cap[i] = nc;
     }
-    (*buf)[(*n)++] = c;
+    cell_store(j->out[i], j->osize, j->nout[i]++, c);
     return 0;
 }
 
@@ -333,7 +394,8 @@ typedef struct ball_list {
 static int gather_visit(void *user, uint32_t j) {
     ball_list *b = user;
     const double *c = b->s->p->positions + 3 * (size_t)j;
-    double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]), d2 = 0.0;
+    double e = b->s->rin * (b->s->rmin + (b->s->uni_r > 0 ? b->s->uni_r : b->s->p->radii[j])),
+           d2 = 0.0;
     for (int k = 0; k < 3; k++) { /* distance from c to the parent box */
         double t = fabs(b->m[k] - c[k]) - b->half;
         if (t > 0) d2 += t * t;
@@ -407,8 +469,7 @@ static void split_chunk(void *user, size_t i) {
             for (int64_t x = 0; x < j->dims[0]; x++) {
                 c.x = (uint32_t)x;
                 cell t = c;
-                if (keep_cell(j->s, &t, 0) && push_cell(&j->out[i], &j->nout[i], &j->cap[i], t))
-                    j->failed = 1;
+                if (keep_cell(j->s, &t, 0) && push_cell(j, i, t)) j->failed = 1;
             }
         }
         return;
@@ -426,11 +487,11 @@ static void split_chunk(void *user, size_t i) {
     }
     b->s = s;
     for (size_t k = lo; k < hi; k++) {
-        if (j->nout[i] > s->cell_budget) {
+        if (j->nout[i] > j->budget) {
             j->over = 1;
             break;
         }
-        cell p = j->parents[k];
+        cell p = cell_load(j->parents, j->psize, k);
         int pvalid = (p.z & VALID_BIT) != 0;
         uint32_t pz = p.z & ~VALID_BIT;
         double pm[3];
@@ -439,8 +500,10 @@ static void split_chunk(void *user, size_t i) {
         size_t hint = 0;
         b->m = pm;
         b->half = a;
-        if (s->p->count)
-            vp_sgrid_query(&s->g, pm, s->rmin + a * sqrt(3.0), gather_visit, b);
+        if (s->p->count) { /* balls (radius rin (rmin + r_j) <= rmin + r_j) meeting the parent */
+            double blo[3] = {pm[0] - a, pm[1] - a, pm[2] - a}, bhi[3] = {pm[0] + a, pm[1] + a, pm[2] + a};
+            vp_sgrid_query_box(&s->g, blo, bhi, s->rmin, gather_visit, b);
+        }
         for (int o = 0; o < 8; o++) {
             cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1)};
             double m[3];
@@ -453,64 +516,134 @@ static void split_chunk(void *user, size_t i) {
             }
             if (box_excluded(s, b, m, h, v, depth, &hint)) continue;
             if (v) c.z |= VALID_BIT;
-            if (push_cell(&j->out[i], &j->nout[i], &j->cap[i], c)) j->failed = 1;
+            if (push_cell(j, i, c)) j->failed = 1;
         }
     }
     free(b);
 }
 
+/* Parents split per round: the parents are taken from the end of the
+ * array, and the array shrinks as they are used, so a split holds about
+ * max(parents, children) cells at once instead of parents + children. */
+#define SPLIT_ROUND 32768
+#define SPLIT_CHUNKS 64
+
+/* Gives the parents of a split that was given up back their place: the
+ * parents not yet split stay, and each split parent that kept a child is
+ * rebuilt from it (children of one parent are consecutive). A parent all
+ * of whose children were dropped holds no admissible centre, so leaving it
+ * out keeps the law. Its valid flag is recomputed (set only when proven). */
+static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, size_t osize) {
+    int level = s->level;
+    size_t n = np;
+    uint32_t lx = UINT32_MAX, ly = 0, lz = 0;
+    for (size_t i = 0; i < nout; i++) {
+        cell c = cell_load(out, osize, i);
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1};
+        if (p.x == lx && p.y == ly && p.z == lz) continue;
+        lx = p.x, ly = p.y, lz = p.z;
+        n++;
+    }
+    unsigned char *cells = realloc(s->cells, (n ? n : 1) * s->csize);
+    if (!cells) return vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+    s->cells = cells;
+    lx = UINT32_MAX;
+    n = np;
+    for (size_t i = 0; i < nout; i++) {
+        cell c = cell_load(out, osize, i);
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1};
+        if (p.x == lx && p.y == ly && p.z == lz) continue;
+        lx = p.x, ly = p.y, lz = p.z;
+        if (classify(s, &p, level) == 2) p.z |= VALID_BIT;
+        cell_store(s->cells, s->csize, n++, p);
+    }
+    s->ncells = n;
+    return VP_OK;
+}
+
 /* Replaces the active cells by the kept children of every active cell (or,
  * with from_box, by the kept level-0 cells of the whole box). */
 static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
-    size_t units = from_box ? (size_t)(dims[1] * dims[2]) : s->ncells;
-    size_t nchunks = units < 64 ? (units ? units : 1) : 64;
+    size_t nchunks = SPLIT_CHUNKS;
     split_job j;
     memset(&j, 0, sizeof j);
     j.s = s;
-    j.parents = s->cells;
-    j.nparents = s->ncells;
     j.child_level = from_box ? 0 : s->level + 1;
     j.from_box = from_box;
+    j.psize = s->csize;
+    j.osize = cell_bytes(s, j.child_level);
     if (from_box) memcpy(j.dims, dims, sizeof j.dims);
-    j.chunk = (units + nchunks - 1) / nchunks;
-    if (!j.chunk) j.chunk = 1;
     j.out = calloc(nchunks, sizeof *j.out);
     j.nout = calloc(nchunks, sizeof *j.nout);
     j.cap = calloc(nchunks, sizeof *j.cap);
+    unsigned char *out = NULL;
+    size_t nout = 0, cap = 0;
+    size_t np = from_box ? 0 : s->ncells;
     vp_result r = VP_OK;
     if (!j.out || !j.nout || !j.cap) {
         r = VP_ERR_OUT_OF_MEMORY;
         goto done;
     }
-    vp_parallel_for(s->threads, nchunks, split_chunk, &j);
-    if (j.failed) {
-        r = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    size_t total = 0;
-    for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
-    if (!from_box && (j.over || total > s->cell_budget)) {
-        /* finer cells would take more memory than the budget allows: go on
-         * with darts at this level (plain RSA in these cells) */
-        s->split_blocked = 1;
-        goto done;
-    }
-    cell *cells = malloc((total ? total : 1) * sizeof *cells);
-    if (!cells) {
-        r = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    size_t at = 0;
-    for (size_t i = 0; i < nchunks; i++) {
-        if (j.nout[i]) memcpy(cells + at, j.out[i], j.nout[i] * sizeof *cells);
-        at += j.nout[i];
+    for (int first = 1; first || np > 0; first = 0) {
+        size_t take = np < SPLIT_ROUND ? np : SPLIT_ROUND;
+        size_t units = from_box ? (size_t)(dims[1] * dims[2]) : take;
+        j.parents = from_box ? NULL : s->cells + (np - take) * j.psize;
+        j.nparents = take;
+        j.chunk = (units + nchunks - 1) / nchunks;
+        if (!j.chunk) j.chunk = 1;
+        j.budget = s->cell_budget - nout;
+        memset(j.nout, 0, nchunks * sizeof *j.nout);
+        vp_parallel_for(s->threads, nchunks, split_chunk, &j);
+        if (j.failed) {
+            r = VP_ERR_OUT_OF_MEMORY;
+            goto done;
+        }
+        size_t total = 0;
+        for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
+        if (!from_box && (j.over || total > s->cell_budget - nout)) {
+            /* finer cells would take more memory than the budget allows: go on
+             * with darts at this level (plain RSA in these cells) */
+            s->split_blocked = 1;
+            r = unsplit(s, np, out, nout, j.osize);
+            goto done;
+        }
+        if (nout + total > cap) {
+            size_t nc = cap + cap / 2;
+            if (!cap && !from_box) /* the first round's ratio, 5 % over */
+                nc = (size_t)((double)total / (double)(take ? take : 1) * 1.05 * (double)np) + 1024;
+            if (nc < nout + total) nc = nout + total;
+            if (!from_box && nc > 8 * (nout + np)) nc = 8 * (nout + np); /* at most 8 children */
+            unsigned char *b = realloc(out, (nc ? nc : 1) * j.osize);
+            if (!b) {
+                r = VP_ERR_OUT_OF_MEMORY;
+                goto done;
+            }
+            out = b;
+            cap = nc;
+        }
+        for (size_t i = 0; i < nchunks; i++) {
+            if (j.nout[i]) memcpy(out + nout * j.osize, j.out[i], j.nout[i] * j.osize);
+            nout += j.nout[i];
+        }
+        if (from_box) break;
+        np -= take;
+        if (np) { /* give the split parents' memory back */
+            unsigned char *b = realloc(s->cells, np * j.psize);
+            if (b) s->cells = b;
+        }
     }
     free(s->cells);
-    s->cells = cells;
-    s->ncells = total;
-    s->cap_cells = total;
+    if (nout < cap) { /* trim */
+        unsigned char *b = realloc(out, (nout ? nout : 1) * j.osize);
+        if (b) out = b;
+    }
+    s->cells = out;
+    out = NULL;
+    s->ncells = nout;
+    s->csize = j.osize;
     s->level = j.child_level;
 done:
+    free(out);
     if (j.out)
         for (size_t i = 0; i < nchunks; i++) free(j.out[i]);
     free(j.out);
@@ -537,12 +670,12 @@ static void make_darts(void *user, size_t ci) {
         dart *t = &s->darts[k];
         uint64_t st = vp_rng_stream(s->stream_seed, s->dart_base + k);
         uint32_t ci2 = (uint32_t)(vp_rng_next(&st) % s->ncells);
-        const cell *c = &s->cells[ci2];
+        const cell c = cell_load(s->cells, s->csize, ci2);
         t->cell = ci2;
-        t->p[0] = s->origin[0] + ((double)c->x + vp_rng_uniform(&st)) * a;
-        t->p[1] = s->origin[1] + ((double)c->y + vp_rng_uniform(&st)) * a;
-        t->p[2] = s->origin[2] + ((double)(c->z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
-        t->d = (c->z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
+        t->p[0] = s->origin[0] + ((double)c.x + vp_rng_uniform(&st)) * a;
+        t->p[1] = s->origin[1] + ((double)c.y + vp_rng_uniform(&st)) * a;
+        t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
+        t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
         if (s->solid) { /* the exact tests depend on the radius: on accepting */
             float f[4] = {0, 0, 0, 1};
@@ -569,7 +702,7 @@ static double grow_one(const rsa *s, size_t i, double diag) {
     if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x);
     double reach = wall < HUGE_VAL ? wall : 4.0 * s->p->radii[i];
     for (;;) {
-        clr_query q = {s->p, x, reach, -HUGE_VAL, 0, s->p->count, i};
+        clr_query q = {s->p, s->uni_r, x, reach, -HUGE_VAL, 0, s->p->count, i};
         vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
         if (q.best < reach) return q.best; /* exact: every closer surface was seen */
         if (reach >= wall || reach >= diag) return reach;
@@ -627,12 +760,18 @@ static void grow_pass(rsa *s, size_t first, size_t last, double *mean_ratio) {
         while ((double)rf > target) rf = nextafterf(rf, 0.0f);
         if ((double)rf > r0) {
             s->p->radii[i] = rf;
+            s->uni_r = 0.0;
             if (rf > s->max_r) s->max_r = rf;
             vp_sgrid_grow(&s->g, (uint32_t)i, rf);
         }
         sum += (double)s->p->radii[i] / r0;
     }
     *mean_ratio = last > first ? sum / (double)(last - first) : 1.0;
+}
+
+static int cmp_desc(const void *a, const void *b) {
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? 1 : x > y ? -1 : 0;
 }
 
 /* --- one pass ------------------------------------------------------------------------ */
@@ -696,6 +835,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     /* cells no finer than 1e-5 of the radius (and coordinates within 31 bits) */
     s->max_level = (int)ceil(log2(a0 / (1e-5 * s->rmin)));
     if (s->max_level > 30 - bits) s->max_level = 30 - bits;
+    s->coord_bits = bits;
     s->level = 0;
     vp_result r = split_cells(s, 1, dims);
     if (r != VP_OK) return r;
@@ -711,10 +851,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     uint64_t dart_index = 0;
     size_t level_darts = 0; /* darts thrown at this level */
     rep->stop = VP_RSA_STOP_MAXIMAL;
-    uint8_t *hit = NULL;
-    size_t hit_cap = 0;
-    size_t *hits = NULL;
-    size_t nhits = 0;
+    uint32_t *hits = NULL; /* cells that received a sphere in this batch */
+    size_t hit_cap = 0, nhits = 0;
     int done = 0;
     while (!done) {
         if (s->ncells == 0) {
@@ -735,13 +873,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         dart_index += B;
         dart_job j = {s, (B + 63) / 64};
         vp_parallel_for(s->threads, 64, make_darts, &j);
-        if (s->ncells > hit_cap) {
-            free(hit);
-            hit_cap = s->ncells;
-            hit = calloc(hit_cap, 1);
-            free(hits);
-            hits = malloc(hit_cap * sizeof *hits);
-            if (!hit || !hits) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
+        if (B > hit_cap) {
+            uint32_t *h = realloc(hits, B * sizeof *hits);
+            if (!h) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
+            hits = h;
+            hit_cap = B;
         }
         nhits = 0;
         size_t ok = 0, used = 0;
@@ -791,6 +927,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             memcpy(s->p->positions + 3 * i, t->p, sizeof t->p);
             s->p->radii[i] = (float)cur_r;
             if (cur_r > s->max_r) s->max_r = cur_r;
+            if (i == 0) s->uni_r = (float)cur_r;
+            else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
             s->p->groups[i] = (uint16_t)pass_index;
             if (s->solid)
                 for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)t->q[m];
@@ -801,10 +939,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             }
             ok++;
             /* the new sphere covers its cell for every later candidate */
-            if (diag <= s->rin * (s->rmin + cur_r) && !hit[t->cell]) {
-                hit[t->cell] = 1;
-                hits[nhits++] = t->cell;
-            }
+            if (diag <= s->rin * (s->rmin + cur_r)) hits[nhits++] = t->cell;
             rep->placed++;
             if (rep->placed >= want) {
                 rep->stop = VP_RSA_STOP_COUNT;
@@ -815,15 +950,20 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         }
         /* drop the cells that received a sphere, in dart order (swap with
          * the last cell that is not itself being dropped) */
-        for (size_t h = 0; h < nhits; h++) hit[hits[h]] = 0;
         if (nhits) {
-            /* sort hits descending so swaps never move a hit cell */
-            for (size_t h = 1; h < nhits; h++) {
-                size_t v = hits[h], m = h;
-                while (m > 0 && hits[m - 1] < v) { hits[m] = hits[m - 1]; m--; }
-                hits[m] = v;
+            /* sort hits descending so swaps never move a hit cell; a cell
+             * hit twice is dropped once */
+            qsort(hits, nhits, sizeof *hits, cmp_desc);
+            size_t u = 1;
+            for (size_t h = 1; h < nhits; h++)
+                if (hits[h] != hits[u - 1]) hits[u++] = hits[h];
+            nhits = u;
+            for (size_t h = 0; h < nhits; h++) {
+                --s->ncells;
+                if (hits[h] != s->ncells)
+                    memcpy(s->cells + hits[h] * s->csize, s->cells + s->ncells * s->csize,
+                           s->csize);
             }
-            for (size_t h = 0; h < nhits; h++) s->cells[hits[h]] = s->cells[--s->ncells];
         }
         if (r != VP_OK || done) break;
         if (!vp_report_progress(s->ctx,
@@ -835,8 +975,16 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             break;
         }
         level_darts += used;
+        /* count mode: no split while the darts still needed at this batch's
+         * success rate are few against the cells to split (a split costs
+         * about 4 darts per parent; the estimate is low, as the rate falls
+         * while the cells fill), unless the rate is so low that the retry
+         * limit could end the pass first */
+        double rate = used ? (double)ok / (double)used : 0.0;
+        int skip = !ps->maximal && rate * (double)retries >= 20.0 &&
+                   (double)(want - rep->placed) / rate <= SPLIT_NEED * (double)s->ncells;
         if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
-            level_darts >= 2 * s->ncells) {
+            level_darts >= SPLIT_DARTS * s->ncells && !skip) {
             level_darts = 0;
             if (s->level >= s->max_level) {
                 /* cells this small are below the numbers' resolution: what
@@ -850,7 +998,6 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
         }
     }
-    free(hit);
     free(hits);
     if (r != VP_OK) return r;
     if (rep->placed == 0 && first == 0 && s->p->count == 0)
@@ -986,7 +1133,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
             snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "pass%zu", i + 1);
     }
     size_t grid_cells = (size_t)(2.0 * estimate) + 4096;
-    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0) {
+    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0 ||
+        vp_sgrid_reserve(&s.g, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
+        vp_sgrid_free(&s.g);
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory for the neighbour grid");
     }

@@ -69,17 +69,25 @@ static int64_t cell_coord(const vp_sgrid_level *L, double x, double o, int k) {
     return (int64_t)f;
 }
 
+int vp_sgrid_reserve(vp_sgrid *g, size_t n) {
+    if (n <= g->capacity) return 0;
+    uint32_t *nx = realloc(g->next, n * sizeof *nx);
+    if (!nx) return -1;
+    g->next = nx;
+    if (g->nlevels > 1) { /* one level: every particle is on it */
+        uint8_t *lv = realloc(g->level_of, n);
+        if (!lv) return -1;
+        g->level_of = lv;
+    }
+    g->capacity = n;
+    return 0;
+}
+
 int vp_sgrid_insert(vp_sgrid *g, uint32_t i, const double pos[3], double r) {
     if ((size_t)i >= g->capacity) {
         size_t cap = g->capacity ? g->capacity : 1024;
         while (cap <= (size_t)i) cap += cap / 2;
-        uint32_t *nx = realloc(g->next, cap * sizeof *nx);
-        if (!nx) return -1;
-        g->next = nx;
-        uint8_t *lv = realloc(g->level_of, cap);
-        if (!lv) return -1;
-        g->level_of = lv;
-        g->capacity = cap;
+        if (vp_sgrid_reserve(g, cap) != 0) return -1;
     }
     int l = 0;
     while (l + 1 < g->nlevels && 2.0 * r > g->lev[l].h) l++;
@@ -89,26 +97,26 @@ int vp_sgrid_insert(vp_sgrid *g, uint32_t i, const double pos[3], double r) {
     size_t idx = (size_t)((c[2] * L->dims[1] + c[1]) * L->dims[0] + c[0]);
     g->next[i] = L->head[idx];
     L->head[idx] = i;
-    g->level_of[i] = (uint8_t)l;
+    if (g->level_of) g->level_of[i] = (uint8_t)l;
     if (r > L->rmax) L->rmax = r;
     return 0;
 }
 
 void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r) {
-    vp_sgrid_level *L = &g->lev[g->level_of[i]];
+    vp_sgrid_level *L = &g->lev[g->level_of ? g->level_of[i] : 0];
     if (r > L->rmax) L->rmax = r;
 }
 
-int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
-                   void *user) {
+int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
+                       vp_sgrid_visit fn, void *user) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
         if (L->rmax <= 0) continue; /* empty level */
         double R = reach + L->rmax;
         int64_t a[3], b[3];
         for (int k = 0; k < 3; k++) {
-            a[k] = cell_coord(L, p[k] - R, g->origin[k], k);
-            b[k] = cell_coord(L, p[k] + R, g->origin[k], k);
+            a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
+            b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
         }
         for (int64_t z = a[2]; z <= b[2]; z++)
             for (int64_t y = a[1]; y <= b[1]; y++) {
@@ -121,8 +129,13 @@ int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_
     return 0;
 }
 
+int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
+                   void *user) {
+    return vp_sgrid_query_box(g, p, p, reach, fn, user);
+}
+
 size_t vp_sgrid_bytes(const vp_sgrid *g) {
-    size_t b = g->capacity * (sizeof(uint32_t) + 1);
+    size_t b = g->capacity * (sizeof(uint32_t) + (g->level_of ? 1 : 0));
     for (int l = 0; l < g->nlevels; l++)
         b += (size_t)(g->lev[l].dims[0] * g->lev[l].dims[1] * g->lev[l].dims[2]) * sizeof(uint32_t);
     return b;

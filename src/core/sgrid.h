@@ -28,7 +28,7 @@ typedef struct vp_sgrid {
     int nlevels;
     vp_sgrid_level lev[VP_SGRID_MAX_LEVELS];
     uint32_t *next;        /* per particle: next index in its cell */
-    uint8_t *level_of;     /* per particle: its level */
+    uint8_t *level_of;     /* per particle: its level (NULL with one level) */
     size_t capacity;       /* of next/level_of */
 } vp_sgrid;
 
@@ -45,6 +45,9 @@ void vp_sgrid_clear(vp_sgrid *g);
  * returns -1 when out of memory. Points outside [lo, hi] are clamped into
  * the border cells (queries remain exact). */
 int vp_sgrid_insert(vp_sgrid *g, uint32_t i, const double pos[3], double r);
+/* Makes room for particles [0, n) without growing again (the grid grows
+ * by half when a larger index comes). Returns 0, or -1 when out of memory. */
+int vp_sgrid_reserve(vp_sgrid *g, size_t n);
 /* Notes that particle i (already inserted) now has radius r. */
 void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r);
 
@@ -54,6 +57,12 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r);
 typedef int (*vp_sgrid_visit)(void *user, uint32_t j);
 int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
                    void *user);
+
+/* The same for every particle j that may lie within `reach` + r_j of the
+ * box [lo, hi] (per axis: a superset of the particles whose ball of radius
+ * reach + r_j meets the box). */
+int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
+                       vp_sgrid_visit fn, void *user);
 
 /* Bytes the grid holds. */
 size_t vp_sgrid_bytes(const vp_sgrid *g);
