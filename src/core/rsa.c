@@ -33,7 +33,6 @@
 #include <string.h>
 
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
-#define SPLIT_NEED 12.0        /* count mode: darts still needed per cell that justify a split */
 #define SPLIT_DARTS 2          /* ... and this many darts per cell were thrown at the level */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
@@ -975,16 +974,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             break;
         }
         level_darts += used;
-        /* count mode: no split while the darts still needed at this batch's
-         * success rate are few against the cells to split (a split costs
-         * about 4 darts per parent; the estimate is low, as the rate falls
-         * while the cells fill), unless the rate is so low that the retry
-         * limit could end the pass first */
-        double rate = used ? (double)ok / (double)used : 0.0;
-        int skip = !ps->maximal && rate * (double)retries >= 20.0 &&
-                   (double)(want - rep->placed) / rate <= SPLIT_NEED * (double)s->ncells;
         if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
-            level_darts >= SPLIT_DARTS * s->ncells && !skip) {
+            level_darts >= SPLIT_DARTS * s->ncells) {
             level_darts = 0;
             if (s->level >= s->max_level) {
                 /* cells this small are below the numbers' resolution: what
