@@ -190,6 +190,8 @@ typedef struct solid_query {
     const double *q;
     double r;
     size_t skip;     /* never this j (grow: the particle itself) */
+    int posed;       /* cand holds the candidate posed about x */
+    vp_poly_posed cand;
 } solid_query;
 
 /* 1 (stop) when particle j overlaps the candidate. */
@@ -215,7 +217,16 @@ static int solid_visit(void *user, uint32_t j) {
     double qj[4];
     vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, w->q, w->x, rj, qj, c, NULL);
-    return !(vp_poly_separation(s->poly, w->r, w->q, w->x, s->poly, rj, qj, c) >= 0.0);
+    /* the candidate is posed once for all its neighbours; both relative
+     * to its centre (the numbers of vp_poly_separation, bit for bit), and
+     * the test stops at the first separating axis */
+    if (!w->posed) {
+        vp_poly_pose(s->poly, w->r, w->q, w->x, w->x, &w->cand);
+        w->posed = 1;
+    }
+    vp_poly_posed pj;
+    vp_poly_pose(s->poly, rj, qj, c, w->x, &pj);
+    return vp_poly_posed_overlap(&w->cand, &pj);
 }
 
 /* 1 if the solid (centre x with container distance d, orientation q,
@@ -231,7 +242,13 @@ static int solid_fits_wall(const rsa *s, const double x[3], double d, const doub
 static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
                       size_t skip) {
     if (!solid_fits_wall(s, x, d, q, r)) return 0;
-    solid_query w = {s, x, q, r, skip};
+    solid_query w;
+    w.s = s;
+    w.x = x;
+    w.q = q;
+    w.r = r;
+    w.skip = skip;
+    w.posed = 0;
     /* the grid finds j within reach + r_j: widen it for the boxes */
     double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
     return !vp_sgrid_query(&s->g, x, reach, solid_visit, &w);
