@@ -244,8 +244,8 @@ static int classify_visit(void *user, const double x[3]) {
 static void classify_task(void *user, size_t i) {
     classify_job *j = user;
     classify_slab cs = {j, 0, &j->amb[i]};
-    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi, j->n3min + (long)i * j->slab_stride, j->n2min,
-               j->n2max, classify_visit, &cs);
+    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi,
+               j->n3min + (long)i * j->slab_stride, j->n2min, j->n2max, classify_visit, &cs);
     j->in_count[i] = cs.in;
 }
 
