@@ -651,6 +651,15 @@ static double estimate_count(const vp_container *c, const vp_lattice_basis *lb, 
     return c->info.volume * lb->fraction / (unit_vol * r * r * r);
 }
 
+/* Count mode's radius step: count ~ r^-3, so r (count / target)^(1/3),
+ * kept within the interior band for --fit inside. */
+static double radius_step(const vp_container *c, vp_fit fit, double r, size_t count,
+                          double target) {
+    double nr = r * cbrt(count ? (double)count / target : 0.125);
+    if (fit == VP_FIT_INSIDE && nr > c->info.interior_band) nr = c->info.interior_band;
+    return nr;
+}
+
 vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_lattice_params *params,
                           vp_particles **out, vp_lattice_report *report) {
     double t0 = vp_seconds();
@@ -770,9 +779,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 /* A large packing: the full search follows and counts
                  * again, and the r^-3 model is then within a fraction of
                  * a per cent, so step once without re-evaluating. */
-                double nr = r * cbrt(best.count ? (double)best.count / target : 0.125);
-                if (params->fit == VP_FIT_INSIDE && nr > c->info.interior_band)
-                    nr = c->info.interior_band;
+                double nr = radius_step(c, params->fit, r, best.count, target);
                 if (best_err > 0.001 * target && nr != r) {
                     r = nr;
                     rep.radius_iterations++;
@@ -781,10 +788,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 continue;
             }
             for (int it = 0; it < 16 && best_err > 0.01 * target; it++) {
-                double ratio = best.count ? (double)best.count / target : 0.125;
-                double nr = r * cbrt(ratio);
-                if (params->fit == VP_FIT_INSIDE && nr > c->info.interior_band)
-                    nr = c->info.interior_band;
+                double nr = radius_step(c, params->fit, r, best.count, target);
                 if (nr == r) break;
                 r = nr;
                 if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;

@@ -445,24 +445,18 @@ int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
     }
     /* no surfaces cross: overlap only if one holds a component of the other */
     double s = sa < sb ? sa : sb, inner = s * (m->inradius > 0 ? m->inradius : 1e-3);
-    for (size_t r = 0; r < m->nreps; r++) {
-        double p[3];
-        to_a(&f, m->verts + 3 * (size_t)m->reps[r], p);
-        if (vp_mesh_shape_contains(m, p)) {
-            if (depth) *depth = inner;
-            return 1;
-        }
-    }
     pair_frame g; /* A in B's frame */
     make_frame(sb, qb, tb, sa, qa, ta, &g);
-    for (size_t r = 0; r < m->nreps; r++) {
-        double p[3];
-        to_a(&g, m->verts + 3 * (size_t)m->reps[r], p);
-        if (vp_mesh_shape_contains(m, p)) {
-            if (depth) *depth = inner;
-            return 1;
+    const pair_frame *frames[2] = {&f, &g}; /* B's components in A, then A's in B */
+    for (int k = 0; k < 2; k++)
+        for (size_t r = 0; r < m->nreps; r++) {
+            double p[3];
+            to_a(frames[k], m->verts + 3 * (size_t)m->reps[r], p);
+            if (vp_mesh_shape_contains(m, p)) {
+                if (depth) *depth = inner;
+                return 1;
+            }
         }
-    }
     return 0;
 }
 

@@ -44,20 +44,28 @@ int vp_export_obj_counts(vp_shape s, int n, int *verts, int *faces) {
     return 0;
 }
 
+/* Room for nv vertices and nf faces (freed with the mesh, also on failure). */
+static int unit_alloc(unit_mesh *m, int nv, int nf) {
+    m->nv = nv;
+    m->nf = nf;
+    m->v = malloc(sizeof *m->v * (size_t)nv);
+    m->f = malloc(sizeof *m->f * (size_t)nf);
+    m->fsize = malloc(sizeof *m->fsize * (size_t)nf);
+    return m->v && m->f && m->fsize ? 0 : -1;
+}
+
 /* Welded icosphere: each icosahedron face on a barycentric grid of n
  * steps, points projected to the unit sphere, shared edge points merged. */
 static int build_sphere(unit_mesh *m, int n) {
     const vp_polyhedron *ico = vp_shape_polyhedron(VP_SHAPE_ICOSAHEDRON);
     int maxv = 10 * n * n + 2, maxf = 20 * n * n;
-    m->v = malloc(sizeof *m->v * (size_t)maxv);
-    m->f = malloc(sizeof *m->f * (size_t)maxf);
-    m->fsize = malloc(sizeof *m->fsize * (size_t)maxf);
+    int room = unit_alloc(m, maxv, maxf);
     int *idx = malloc(sizeof(int) * (size_t)((n + 1) * (n + 1)));
-    if (!ico || !m->v || !m->f || !m->fsize || !idx) {
+    if (!ico || room != 0 || !idx) {
         free(idx);
         return -1;
     }
-    m->nv = m->nf = 0;
+    m->nv = m->nf = 0; /* counted up as points and faces are added */
     for (int fi = 0; fi < ico->nfaces; fi++) {
         const double *a = ico->verts[ico->faces[fi][0]], *b = ico->verts[ico->faces[fi][1]],
                      *c = ico->verts[ico->faces[fi][2]];
@@ -105,12 +113,7 @@ static int build_unit(unit_mesh *m, vp_shape s, const vp_mesh_shape *mesh, int n
     if (s == VP_SHAPE_SPHERE) return build_sphere(m, n);
     if (s == VP_SHAPE_MESH) { /* the normalised mesh, as --shape-out writes it */
         if (!mesh || mesh->nverts > INT32_MAX || mesh->ntris > INT32_MAX) return -1;
-        m->nv = (int)mesh->nverts;
-        m->nf = (int)mesh->ntris;
-        m->v = malloc(sizeof *m->v * (size_t)m->nv);
-        m->f = malloc(sizeof *m->f * (size_t)m->nf);
-        m->fsize = malloc(sizeof *m->fsize * (size_t)m->nf);
-        if (!m->v || !m->f || !m->fsize) return -1;
+        if (unit_alloc(m, (int)mesh->nverts, (int)mesh->ntris) != 0) return -1;
         memcpy(m->v, mesh->verts, sizeof *m->v * (size_t)m->nv);
         for (int i = 0; i < m->nf; i++) {
             m->fsize[i] = 3;
@@ -120,12 +123,7 @@ static int build_unit(unit_mesh *m, vp_shape s, const vp_mesh_shape *mesh, int n
     }
     const vp_polyhedron *p = vp_shape_polyhedron(s);
     if (!p) return -1;
-    m->nv = p->nverts;
-    m->nf = p->nfaces;
-    m->v = malloc(sizeof *m->v * (size_t)m->nv);
-    m->f = malloc(sizeof *m->f * (size_t)m->nf);
-    m->fsize = malloc(sizeof *m->fsize * (size_t)m->nf);
-    if (!m->v || !m->f || !m->fsize) return -1;
+    if (unit_alloc(m, p->nverts, p->nfaces) != 0) return -1;
     memcpy(m->v, p->verts, sizeof *m->v * (size_t)m->nv);
     for (int i = 0; i < m->nf; i++) {
         m->fsize[i] = p->face_size[i];

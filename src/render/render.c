@@ -93,6 +93,24 @@ static void cell_range(const scene *S, const double *c, double r, int lo[3], int
     }
 }
 
+/* One pass over every kept particle's cell range, in index order (so the
+ * grid is deterministic): fill NULL counts the references of each cell
+ * (into cell_start[c + 1]); otherwise each reference is stored at fill[c]++. */
+static void grid_pass(scene *S, const vp_particles *p, uint32_t *fill) {
+    for (size_t i = 0; i < p->count; i++) {
+        if (!particle_kept(S, i)) continue;
+        int lo[3], hi[3];
+        cell_range(S, p->positions + 3 * i, radius_of(p, i), lo, hi);
+        for (int z = lo[2]; z <= hi[2]; z++)
+            for (int y = lo[1]; y <= hi[1]; y++)
+                for (int x = lo[0]; x <= hi[0]; x++) {
+                    size_t c = ((size_t)z * S->n[1] + y) * S->n[0] + x;
+                    if (fill) S->refs[fill[c]++] = (uint32_t)i;
+                    else S->cell_start[c + 1]++;
+                }
+    }
+}
+
 uint64_t vp_render_grid_bytes(size_t count, double refs_per_particle) {
     /* refs (4 B each) + at most ~1 cell a particle (4 B) + the per-image
      * bookkeeping, which is small */
@@ -175,28 +193,12 @@ static vp_result scene_build(vp_context *ctx, scene *S, uint64_t budget) {
     S->refs = malloc((size_t)(total ? total : 1) * sizeof(uint32_t));
     if (!S->cell_start || !S->refs)
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory for the grid");
-    for (size_t i = 0; i < p->count; i++) {
-        if (!particle_kept(S, i)) continue;
-        int lo[3], hi[3];
-        cell_range(S, p->positions + 3 * i, radius_of(p, i), lo, hi);
-        for (int z = lo[2]; z <= hi[2]; z++)
-            for (int y = lo[1]; y <= hi[1]; y++)
-                for (int x = lo[0]; x <= hi[0]; x++)
-                    S->cell_start[((size_t)z * S->n[1] + y) * S->n[0] + x + 1]++;
-    }
+    grid_pass(S, p, NULL);
     for (size_t c = 0; c < ncells; c++) S->cell_start[c + 1] += S->cell_start[c];
     uint32_t *fill = malloc(ncells * sizeof(uint32_t));
     if (!fill) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory for the grid");
     memcpy(fill, S->cell_start, ncells * sizeof(uint32_t));
-    for (size_t i = 0; i < p->count; i++) { /* in index order: deterministic */
-        if (!particle_kept(S, i)) continue;
-        int lo[3], hi[3];
-        cell_range(S, p->positions + 3 * i, radius_of(p, i), lo, hi);
-        for (int z = lo[2]; z <= hi[2]; z++)
-            for (int y = lo[1]; y <= hi[1]; y++)
-                for (int x = lo[0]; x <= hi[0]; x++)
-                    S->refs[fill[((size_t)z * S->n[1] + y) * S->n[0] + x]++] = (uint32_t)i;
-    }
+    grid_pass(S, p, fill);
     free(fill);
     return VP_OK;
 }
