@@ -17,6 +17,7 @@
  * random stream (seed, pass, k). Darts are made and pre-tested (container,
  * particles placed before the batch) in parallel, then accepted in dart
  * order on one thread, so the result does not depend on the thread count. */
+#include "core/bigmem.h"
 #include "core/container.h"
 #include "core/context.h"
 #include "core/geom.h"
@@ -65,6 +66,7 @@ typedef struct dart {
     double q[4];  /* orientation (solids), as stored: float, renormalised */
     double d;     /* container distance (or -HUGE_VAL: cell known valid) */
     double clr;   /* min over earlier particles of |p - c_j| - r_j (capped) */
+    uint64_t st;  /* its random stream, between the sweeps of make_darts */
     uint32_t cell;
 } dart;
 
@@ -130,9 +132,11 @@ static int reserve(vp_particles *p, size_t want) {
     double *pos = realloc(p->positions, cap * 3 * sizeof *pos);
     if (!pos) return -1;
     p->positions = pos;
+    vp_mem_advise_random(pos, cap * 3 * sizeof *pos);
     float *rad = realloc(p->radii, cap * sizeof *rad);
     if (!rad) return -1;
     p->radii = rad;
+    vp_mem_advise_random(rad, cap * sizeof *rad);
     uint16_t *grp = realloc(p->groups, cap * sizeof *grp);
     if (!grp) return -1;
     p->groups = grp;
@@ -140,6 +144,7 @@ static int reserve(vp_particles *p, size_t want) {
         float *o = realloc(p->orients, cap * 4 * sizeof *o);
         if (!o) return -1;
         p->orients = o;
+        vp_mem_advise_random(o, cap * 4 * sizeof *o);
     }
     p->capacity = cap;
     return 0;
@@ -636,6 +641,7 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
             }
             out = b;
             cap = nc;
+            vp_mem_advise_random(out, cap * j.osize);
         }
         for (size_t i = 0; i < nchunks; i++) {
             if (j.nout[i]) memcpy(out + nout * j.osize, j.out[i], j.nout[i] * j.osize);
@@ -676,6 +682,12 @@ typedef struct dart_job {
     size_t chunk;
 } dart_job;
 
+/* Makes darts [lo, hi) of the batch in three sweeps, so that the memory
+ * each needs (a random active cell, then the neighbour grid's cells and
+ * particles around the dart) is requested for the whole chunk before it is
+ * used: a dart is a chain of dependent cache misses, and the sweeps let
+ * the misses of different darts overlap. Each dart draws from its own
+ * stream in the same order as one sweep would (cell, position, rotation). */
 static void make_darts(void *user, size_t ci) {
     dart_job *j = user;
     rsa *s = j->s;
@@ -684,26 +696,39 @@ static void make_darts(void *user, size_t ci) {
     double a = cell_side(s, s->level);
     for (size_t k = lo; k < hi; k++) {
         dart *t = &s->darts[k];
-        uint64_t st = vp_rng_stream(s->stream_seed, s->dart_base + k);
-        uint32_t ci2 = (uint32_t)(vp_rng_next(&st) % s->ncells);
-        const cell c = cell_load(s->cells, s->csize, ci2);
-        t->cell = ci2;
-        t->p[0] = s->origin[0] + ((double)c.x + vp_rng_uniform(&st)) * a;
-        t->p[1] = s->origin[1] + ((double)c.y + vp_rng_uniform(&st)) * a;
-        t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
+        t->st = vp_rng_stream(s->stream_seed, s->dart_base + k);
+        t->cell = (uint32_t)(vp_rng_next(&t->st) % s->ncells);
+        __builtin_prefetch(s->cells + (size_t)t->cell * s->csize);
+    }
+    for (size_t k = lo; k < hi; k++) {
+        dart *t = &s->darts[k];
+        const cell c = cell_load(s->cells, s->csize, t->cell);
+        t->p[0] = s->origin[0] + ((double)c.x + vp_rng_uniform(&t->st)) * a;
+        t->p[1] = s->origin[1] + ((double)c.y + vp_rng_uniform(&t->st)) * a;
+        t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + vp_rng_uniform(&t->st)) * a;
         t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
         if (s->solid) { /* the exact tests depend on the radius: on accepting */
             float f[4] = {0, 0, 0, 1};
             if (s->orient_random) {
                 double q[4];
-                vp_rng_quat(&st, q);
+                vp_rng_quat(&t->st, q);
                 for (int m = 0; m < 4; m++) f[m] = (float)q[m];
             }
             vp_quat_from_float(f, t->q);
             continue;
         }
-        if (t->d <= thr_ok(s, s->rmin) && s->n0)
+        if (t->d <= thr_ok(s, s->rmin) && s->n0) vp_sgrid_prefetch_cells(&s->g, t->p, t->p, s->rmax);
+    }
+    if (s->solid || !s->n0) return;
+    for (size_t k = lo; k < hi; k++) {
+        const dart *t = &s->darts[k];
+        if (t->d <= thr_ok(s, s->rmin))
+            vp_sgrid_prefetch_items(&s->g, t->p, t->p, s->rmax, s->p->positions);
+    }
+    for (size_t k = lo; k < hi; k++) {
+        dart *t = &s->darts[k];
+        if (t->d <= thr_ok(s, s->rmin))
             t->clr = clearance(s, t->p, s->rmax, s->rmin, 0, s->n0);
     }
 }

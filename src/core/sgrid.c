@@ -1,6 +1,8 @@
 /* Hierarchical cell grid for neighbour search; see sgrid.h. */
 #include "core/sgrid.h"
 
+#include "core/bigmem.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +24,7 @@ static int level_alloc(vp_sgrid_level *L, const double lo[3], const double hi[3]
     size_t n = (size_t)(L->dims[0] * L->dims[1] * L->dims[2]);
     L->head = malloc(n * sizeof *L->head);
     if (!L->head) return -1;
+    vp_mem_advise_random(L->head, n * sizeof *L->head);
     memset(L->head, 0xff, n * sizeof *L->head);
     L->rmax = 0.0;
     return 0;
@@ -74,6 +77,7 @@ int vp_sgrid_reserve(vp_sgrid *g, size_t n) {
     uint32_t *nx = realloc(g->next, n * sizeof *nx);
     if (!nx) return -1;
     g->next = nx;
+    vp_mem_advise_random(nx, n * sizeof *nx);
     if (g->nlevels > 1) { /* one level: every particle is on it */
         uint8_t *lv = realloc(g->level_of, n);
         if (!lv) return -1;
@@ -127,6 +131,46 @@ int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3]
             }
     }
     return 0;
+}
+
+/* Calls the hint for every row of cells a query of p with reach reads. */
+static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi[3],
+                          double reach, const double *positions) {
+    for (int l = 0; l < g->nlevels; l++) {
+        const vp_sgrid_level *L = &g->lev[l];
+        if (L->rmax <= 0) continue;
+        double R = reach + L->rmax;
+        int64_t a[3], b[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
+            b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
+        }
+        for (int64_t z = a[2]; z <= b[2]; z++)
+            for (int64_t y = a[1]; y <= b[1]; y++) {
+                const uint32_t *row = L->head + (size_t)((z * L->dims[1] + y) * L->dims[0]);
+                if (!positions) {
+                    __builtin_prefetch(row + a[0]);
+                    __builtin_prefetch(row + b[0]);
+                    continue;
+                }
+                for (int64_t x = a[0]; x <= b[0]; x++) {
+                    uint32_t j = row[x];
+                    if (j == VP_SGRID_NONE) continue;
+                    __builtin_prefetch(g->next + j);
+                    __builtin_prefetch(positions + 3 * (size_t)j);
+                }
+            }
+    }
+}
+
+void vp_sgrid_prefetch_cells(const vp_sgrid *g, const double lo[3], const double hi[3],
+                             double reach) {
+    prefetch_rows(g, lo, hi, reach, NULL);
+}
+
+void vp_sgrid_prefetch_items(const vp_sgrid *g, const double lo[3], const double hi[3],
+                             double reach, const double *positions) {
+    prefetch_rows(g, lo, hi, reach, positions);
 }
 
 int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
