@@ -3,8 +3,9 @@
  * particle against the analytic wall), never by the checker alone:
  * size distributions (sample moments), RSA (zero overlaps, inside, groups,
  * count and retry semantics, grow makes contacts, maximal leaves no room
- * on a fine probe grid, determinism across thread counts), relaxation
- * (overlap bound, inside, radius scale) and vp_check_particles (known
+ * on a fine probe grid, determinism across thread counts, a refinement
+ * given up over the cell budget), relaxation (overlap bound, inside,
+ * radius scale) and vp_check_particles (known
  * overlaps, outsiders and contacts, spheres and cubes). */
 #include "vdbpack/vdbpack.h"
 
@@ -270,6 +271,60 @@ static void test_rsa_count_near_saturation(void) {
     vp_container_destroy(c);
 }
 
+/* A refinement over the cell budget (vp_rsa_params.max_cells) is given
+ * up part-way: the parents not yet split and the split ones that kept a
+ * child go back to the current level, and plain darts go on. With this
+ * seed the level-1 to level-2 split (107 502 parents, 4 rounds) runs over
+ * 108 000 cells in its last round, and 47 502 cells go back. The packing
+ * must stay valid (no overlap, inside, the same for any thread count) and
+ * dense: the cells handed back still hold every admissible centre, so with
+ * 30 000 retries the pass reaches 0.34; handing back only the parents not
+ * yet split (a mutation tried on 2026-11-23) loses the rest of the space
+ * and stops at 0.28. */
+static void test_rsa_cell_budget(void) {
+    vp_container *c = unit_box();
+    const double r = 0.015;
+    vp_rsa_pass ps;
+    vp_rsa_pass_init(&ps);
+    ps.maximal = 1;
+    ps.retries = 30000;
+    vp_size_dist_constant(&ps.radius, r);
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = &ps;
+    rp.npasses = 1;
+    rp.seed = 21;
+    rp.max_cells = 108000;
+    vp_particles *a = NULL, *b = NULL;
+    vp_rsa_report rep;
+    vp_context_set_threads(ctx, 1);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, &rep), VP_OK);
+    vp_context_set_threads(ctx, 2);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &b, NULL), VP_OK);
+    vp_context_set_threads(ctx, 0);
+    double frac = vp_particles_volume(a);
+    fprintf(stderr, "   budget %zu cells: %zu spheres, fraction %.4f, stop %d, budget hit %d\n",
+            rp.max_cells, a->count, frac, (int)rep.passes[0].stop, rep.passes[0].budget_hit);
+    ASSERT_EQ_INT(rep.passes[0].budget_hit, 1);
+    ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_RETRIES);
+    ASSERT_EQ_INT(a->count, b->count);
+    ASSERT_TRUE(!memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)));
+    ASSERT_LE(worst_overlap(a), 0.0);
+    ASSERT_LE(worst_wall_box(a, 0.5), 0.0);
+    ASSERT_GE(frac, 0.33);
+    vp_particles_destroy(a);
+    vp_particles_destroy(b);
+    /* the automatic budget is not reached by the same pass */
+    rp.max_cells = 0;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.passes[0].budget_hit, 0);
+    ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_MAXIMAL);
+    fprintf(stderr, "   automatic budget: %zu spheres, fraction %.4f\n", a->count,
+            vp_particles_volume(a));
+    vp_particles_destroy(a);
+    vp_container_destroy(c);
+}
+
 static void test_rsa_deterministic(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
@@ -433,6 +488,7 @@ int main(void) {
     RUN_TEST(test_rsa_maximal_leaves_no_room);
     RUN_TEST(test_rsa_count_near_saturation);
     RUN_TEST(test_rsa_deterministic);
+    RUN_TEST(test_rsa_cell_budget);
     RUN_TEST(test_relax);
     RUN_TEST(test_check_known_cases);
     vp_context_destroy(ctx);

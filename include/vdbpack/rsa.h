@@ -46,6 +46,9 @@ typedef struct vp_rsa_params {
     const vp_rsa_pass *passes; /* not owned; npasses in 1..VP_MAX_GROUPS */
     size_t npasses;
     uint64_t seed;
+    size_t max_cells;          /* most active cells a refinement may make (memory:
+                                  4 to 12 bytes each); 0 = automatic, 32 x the
+                                  expected count of the pass (at least 65536) */
 } vp_rsa_params;
 void vp_rsa_params_init(vp_rsa_params *p);
 
@@ -60,6 +63,9 @@ typedef struct vp_rsa_pass_report {
     size_t placed;
     vp_rsa_stop stop;
     uint64_t tries;        /* candidate centres tested */
+    int budget_hit;        /* 1 when a refinement of the empty space would have
+                              made more than max_cells cells: the pass went on
+                              with plain darts in the cells it had */
     double grow_mean;      /* with grow: mean final/initial radius; else 1 */
     double seconds;
 } vp_rsa_pass_report;

@@ -537,11 +537,12 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
             char sz[256];
             vp_size_dist_format(&o->passes[i].radius, sz, sizeof sz);
             printf("%s{\"group\":\"%s\",\"radius\":\"%s\",\"requested\":%zu,\"maximal\":%s,"
-                   "\"placed\":%zu,\"stop\":\"%s\",\"tries\":%llu,\"grow\":%s,\"grow_mean\":%.17g,"
-                   "\"seconds\":%.6f}",
+                   "\"placed\":%zu,\"stop\":\"%s\",\"tries\":%llu,\"cell_budget_reached\":%s,"
+                   "\"grow\":%s,\"grow_mean\":%.17g,\"seconds\":%.6f}",
                    i ? "," : "", p->group_names[i], sz, pr->requested,
                    o->passes[i].maximal ? "true" : "false", pr->placed, stop_name(pr->stop),
-                   (unsigned long long)pr->tries, o->passes[i].grow ? "true" : "false",
+                   (unsigned long long)pr->tries, pr->budget_hit ? "true" : "false",
+                   o->passes[i].grow ? "true" : "false",
                    pr->grow_mean, pr->seconds);
         }
         printf("]");

@@ -96,6 +96,7 @@ typedef struct rsa {
     double lipschitz;     /* bound on |grad distance|: 1 analytic, sqrt(3) for
                              level sets (trilinear interpolation) */
     int threads;
+    size_t max_cells_param; /* vp_rsa_params.max_cells (0: automatic) */
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
     double a0;            /* level-0 cell side */
@@ -860,7 +861,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (max_cells < 4096) max_cells = 4096;
     if (max_cells > 1 << 26) max_cells = 1 << 26;
     while (vol / (a0 * a0 * a0) > max_cells) a0 *= 2.0;
-    s->cell_budget = (size_t)(16.0 * max_cells);
+    s->cell_budget = s->max_cells_param ? s->max_cells_param : (size_t)(16.0 * max_cells);
     s->split_blocked = 0;
     s->a0 = a0;
     int64_t dims[3];
@@ -1027,6 +1028,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             }
             r = split_cells(s, 0, NULL);
             if (r != VP_OK) break;
+            rep->budget_hit |= s->split_blocked;
             if (s->split_blocked && ps->maximal) /* honest fallback: retries end it */
                 retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
         }
@@ -1114,6 +1116,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.c = c;
     s.fit = params->fit;
     s.threads = vp_threads_for(ctx);
+    s.max_cells_param = params->max_cells;
     /* trilinear interpolation of exact distances has partial derivatives up
      * to 1 each, so its gradient can reach sqrt(3) near edges */
     s.lipschitz = ci->voxel_size > 0 ? sqrt(3.0) : 1.0;
