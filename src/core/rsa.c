@@ -642,7 +642,6 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
             }
             out = b;
             cap = nc;
-            vp_mem_advise_random(out, cap * j.osize);
         }
         for (size_t i = 0; i < nchunks; i++) {
             if (j.nout[i]) memcpy(out + nout * j.osize, j.out[i], j.nout[i] * j.osize);
