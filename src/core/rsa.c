@@ -64,7 +64,9 @@ typedef struct dart {
     double p[3];
     double q[4];  /* orientation (solids), as stored: float, renormalised */
     double d;     /* container distance (or -HUGE_VAL: cell known valid) */
-    double clr;   /* min over earlier particles of |p - c_j| - r_j (capped) */
+    double clr;   /* spheres: min over earlier particles of |p - c_j| - r_j (capped);
+                     solids of a one-radius pass: 1 when the solid fits the wall and
+                     overlaps no earlier particle, else 0 */
     uint32_t cell;
 } dart;
 
@@ -96,6 +98,9 @@ typedef struct rsa {
     int threads;
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
+    int pretest;          /* solids: the pass has one radius (rmin), so darts are
+                             tested against the particles before their batch in
+                             parallel, and only against the batch's own serially */
     double a0;            /* level-0 cell side */
     double origin[3];     /* cell lattice origin */
     int level, max_level;
@@ -190,6 +195,7 @@ typedef struct solid_query {
     const double *q;
     double r;
     size_t skip;     /* never this j (grow: the particle itself) */
+    size_t from;     /* only j >= from */
     int posed;       /* cand holds the candidate posed about x */
     vp_poly_posed cand;
 } solid_query;
@@ -198,7 +204,7 @@ typedef struct solid_query {
 static int solid_visit(void *user, uint32_t j) {
     solid_query *w = user;
     const rsa *s = w->s;
-    if (j == w->skip) return 0;
+    if (j == w->skip || j < w->from) return 0;
     const double *c = s->p->positions + 3 * (size_t)j;
     double rj = s->p->radii[j], e = w->r + rj, d[3], d2 = 0.0;
     for (int k = 0; k < 3; k++) {
@@ -238,20 +244,35 @@ static int solid_fits_wall(const rsa *s, const double x[3], double d, const doub
     return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
 }
 
-/* 1 if the solid fits the wall and overlaps none of particles [0, count). */
-static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
-                      size_t skip) {
-    if (!solid_fits_wall(s, x, d, q, r)) return 0;
+/* 1 if the solid overlaps none of particles [from, count) (but skip).
+ * Each pair is tested on its own, so the verdict over [0, count) is the
+ * conjunction of those over [0, n) and [n, count) for any n: the darts'
+ * parallel pre-test and the serial test of a batch split it so. */
+static int solid_clear_from(const rsa *s, const double x[3], const double q[4], double r,
+                            size_t skip, size_t from) {
     solid_query w;
     w.s = s;
     w.x = x;
     w.q = q;
     w.r = r;
     w.skip = skip;
+    w.from = from;
     w.posed = 0;
+    size_t nnew = s->p->count - from;
+    if (from > 0 && nnew <= 32) { /* a few new particles: test them directly */
+        for (size_t j = from; j < s->p->count; j++)
+            if (solid_visit(&w, (uint32_t)j)) return 0;
+        return 1;
+    }
     /* the grid finds j within reach + r_j: widen it for the boxes */
     double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
     return !vp_sgrid_query(&s->g, x, reach, solid_visit, &w);
+}
+
+/* 1 if the solid fits the wall and overlaps none of particles [0, count). */
+static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
+                      size_t skip) {
+    return solid_fits_wall(s, x, d, q, r) && solid_clear_from(s, x, q, r, skip, 0);
 }
 
 /* --- active cells ------------------------------------------------------------- */
@@ -701,6 +722,9 @@ static void make_darts(void *user, size_t ci) {
                 for (int m = 0; m < 4; m++) f[m] = (float)q[m];
             }
             vp_quat_from_float(f, t->q);
+            /* one radius: the exact tests against the particles placed
+             * before the batch need not wait for the serial loop */
+            if (s->pretest) t->clr = solid_free(s, t->p, t->d, t->q, s->rmin, SIZE_MAX);
             continue;
         }
         if (t->d <= thr_ok(s, s->rmin) && s->n0)
@@ -804,6 +828,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if ((double)fmax < vp_size_dist_max(&ps->radius)) fmax = nextafterf(fmax, HUGE_VALF);
     s->rmin = fmin;
     s->rmax = fmax;
+    /* every radius drawn is a float in [fmin, fmax]: equal bounds, one radius */
+    s->pretest = s->solid && fmin == fmax;
     s->stream_seed = vp_rng_stream(seed, 2 * (uint64_t)pass_index);
     uint64_t rad_state = vp_rng_stream(seed, 2 * (uint64_t)pass_index + 1);
     const vp_container_info *ci = &s->c->info;
@@ -903,7 +929,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             used++;
             rep->tries++;
             int good;
-            if (s->solid) {
+            if (s->solid && s->pretest) { /* cur_r == rmin; earlier particles done */
+                good = t->clr != 0.0 &&
+                       (s->p->count == s->n0 ||
+                        solid_clear_from(s, t->p, t->q, cur_r, SIZE_MAX, s->n0));
+            } else if (s->solid) {
                 good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
             } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
                        s->p->count > s->n0) { /* spheres placed in this batch */
