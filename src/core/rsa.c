@@ -302,7 +302,9 @@ static int solid_clear_from(const rsa *s, const double x[3], const double q[4], 
     }
     /* the grid finds j within reach + r_j: widen it for the boxes */
     double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
-    return !vp_sgrid_query(&s->g, x, reach, solid_visit, &w);
+    /* own grid cell first: a candidate that fails mostly fails on a
+     * particle there, and the verdict does not depend on the order */
+    return !vp_sgrid_query_near(&s->g, x, reach, solid_visit, &w);
 }
 
 /* 1 if the solid fits the wall and overlaps none of particles [0, count). */
