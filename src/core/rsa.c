@@ -675,6 +675,13 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
         }
         size_t total = 0;
         for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
+        /* solids: cells are dropped by a necessary condition only, so a
+         * split far over the budget is common near the end of a pass; the
+         * first round's ratio of children to parents tells it early (twice
+         * over: a wrong guess only keeps the current cells) */
+        if (!from_box && first && s->solid &&
+            (double)total / (double)(take ? take : 1) * (double)np > 2.0 * (double)s->cell_budget)
+            j.over = 1;
         if (!from_box && (j.over || total > s->cell_budget - nout)) {
             /* finer cells would take more memory than the budget allows: go on
              * with darts at this level (plain RSA in these cells) */
