@@ -748,12 +748,22 @@ static void make_darts(void *user, size_t ci) {
     size_t lo = ci * j->chunk, hi = lo + j->chunk;
     if (hi > s->ndarts) hi = s->ndarts;
     double a = cell_side(s, s->level);
+    /* the cells are drawn first and their memory fetched ahead: a random
+     * cell of a large array is a cache miss, and the darts' streams are
+     * independent, so the misses of a chunk overlap instead of queueing */
+    for (size_t k = lo; k < hi; k++) {
+        uint64_t st = vp_rng_stream(s->stream_seed, s->dart_base + k);
+        s->darts[k].cell = (uint32_t)(vp_rng_next(&st) % s->ncells);
+#ifdef __GNUC__
+        __builtin_prefetch(s->cells + (size_t)s->darts[k].cell * s->csize);
+#endif
+    }
     for (size_t k = lo; k < hi; k++) {
         dart *t = &s->darts[k];
         uint64_t st = vp_rng_stream(s->stream_seed, s->dart_base + k);
-        uint32_t ci2 = (uint32_t)(vp_rng_next(&st) % s->ncells);
+        (void)vp_rng_next(&st); /* the cell, drawn above */
+        uint32_t ci2 = t->cell;
         const cell c = cell_load(s->cells, s->csize, ci2);
-        t->cell = ci2;
         t->p[0] = s->origin[0] + ((double)c.x + vp_rng_uniform(&st)) * a;
         t->p[1] = s->origin[1] + ((double)c.y + vp_rng_uniform(&st)) * a;
         t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + vp_rng_uniform(&st)) * a;
