@@ -1,6 +1,7 @@
 /* Unit tests of src/core/shape.c: names, the unit polyhedra (closed-form
- * volumes and inradii, topology, orientation) and the separating-axis test
- * against an independent brute-force overlap check. */
+ * volumes and inradii, topology, orientation), the separating-axis test
+ * against an independent brute-force overlap check, and the cube's quick
+ * centre tests against the separating-axis test. */
 #include "core/geom.h"
 #include "core/shape.h"
 #include "vp_test.h"
@@ -406,12 +407,78 @@ static void test_sat_contact(void) {
     ASSERT_EQ_INT(n, 300);
 }
 
+/* The cube's quick cases (vp_cube_center_test, used by the RSA packer
+ * before the SAT) against the SAT: a random cube A and solid B of every
+ * shape, B's centre at random offsets and at offsets bisected onto the
+ * two thresholds (its distance to A equal to B's inradius or to its
+ * radius, times 1 -+ 1e-7); every pair the quick test decides must get
+ * the SAT's answer, and both answers must occur. */
+static double cube_point_dist(const double R[3][3], double h, const double d[3]) {
+    double f = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double u = fabs(R[0][k] * d[0] + R[1][k] * d[1] + R[2][k] * d[2]) - h;
+        if (u > 0) f += u * u;
+    }
+    return sqrt(f);
+}
+
+static void test_cube_center(void) {
+    const vp_polyhedron *cube = vp_shape_polyhedron(VP_SHAPE_CUBE);
+    int decided[2] = {0, 0}, n = 0;
+    for (int it = 0; it < 20000; ++it) {
+        vp_shape sb = (vp_shape)(1 + it % 5);
+        const vp_polyhedron *b = vp_shape_polyhedron(sb);
+        double qa[4], qb[4], ta[3] = {0.3, -0.7, 0.2}, tb[3], dir[3], R[3][3];
+        rand_quat(qa);
+        rand_quat(qb);
+        vp_quat_to_matrix(qa, R);
+        double ka = 0.5 + urand(), kb = 0.5 + urand(), h = ka * cube->inradius;
+        do {
+            for (int c = 0; c < 3; ++c) dir[c] = 2 * urand() - 1;
+        } while (vp_norm3(dir) < 0.1 || vp_norm3(dir) > 1);
+        double dn = vp_norm3(dir), dist;
+        int mode = it % 3;
+        if (mode == 0) {
+            dist = 3.0 * urand() * (ka + kb);
+        } else { /* the distance to the cube along dir grows: bisect onto a threshold */
+            double target = (mode == 1 ? kb * b->inradius : kb) * (1.0 + ((it / 3) % 2 ? 1e-7 : -1e-7));
+            double lo = 0.0, hi = 4.0 * (ka + kb);
+            for (int k = 0; k < 200; ++k) {
+                double mid = 0.5 * (lo + hi), d[3];
+                for (int c = 0; c < 3; ++c) d[c] = mid * dir[c] / dn;
+                if (cube_point_dist((const double (*)[3])R, h, d) < target) lo = mid;
+                else hi = mid;
+            }
+            dist = 0.5 * (lo + hi);
+        }
+        double d[3];
+        for (int c = 0; c < 3; ++c) {
+            tb[c] = ta[c] + dist * dir[c] / dn;
+            d[c] = tb[c] - ta[c];
+        }
+        int v = vp_cube_center_test((const double (*)[3])R, h, d, kb * b->inradius, kb, 1e-14);
+        ++n;
+        if (v < 0) continue;
+        double s = vp_poly_separation(cube, ka, qa, ta, b, kb, qb, tb);
+        if (v != (s < 0))
+            fprintf(stderr, "   mismatch it=%d cube/%s quick=%d sep=%.6g\n", it, vp_shape_name(sb),
+                    v, s);
+        ASSERT_EQ_INT(v, s < 0);
+        ++decided[v];
+    }
+    fprintf(stderr, "   cube centre tests: %d pairs, %d decided overlapping, %d decided apart\n", n,
+            decided[1], decided[0]);
+    ASSERT_TRUE(decided[0] > 3000);
+    ASSERT_TRUE(decided[1] > 3000);
+}
+
 int main(void) {
     RUN_TEST(test_names);
     RUN_TEST(test_polyhedra);
     RUN_TEST(test_sat_simple);
     RUN_TEST(test_sat_random);
     RUN_TEST(test_sat_contact);
+    RUN_TEST(test_cube_center);
     fprintf(stderr, "all shape tests passed\n");
     return 0;
 }

@@ -28,6 +28,7 @@
 #include "core/shape.h"
 #include "core/size_dist_sample.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -65,7 +66,9 @@ typedef struct dart {
     double p[3];
     double q[4];  /* orientation (solids), as stored: float, renormalised */
     double d;     /* container distance (or -HUGE_VAL: cell known valid) */
-    double clr;   /* min over earlier particles of |p - c_j| - r_j (capped) */
+    double clr;   /* spheres: min over earlier particles of |p - c_j| - r_j (capped);
+                     solids of a one-radius pass: 1 when the solid fits the wall and
+                     overlaps no earlier particle, else 0 */
     uint64_t st;  /* its random stream, between the sweeps of make_darts */
     uint32_t cell;
 } dart;
@@ -84,6 +87,10 @@ typedef struct rsa {
                              rin (r_i + r_j) overlap whatever their orientation */
     int orient_random;    /* solids: draw a rotation per particle */
     int bbox;             /* solids: overlap by axis-aligned boxes */
+    int cube;             /* cubes with the exact test: most pairs are decided
+                             by one centre's distance to the other cube */
+    double coord_eps;     /* rounding of a difference of two coordinates (64 ulp
+                             of the container's largest coordinate) */
     double bb_lo[3], bb_hi[3]; /* the unit solid's box (bbox mode) */
     double reach;         /* bounding radius of what the overlap test compares, per
                              unit radius: 1, or the box's farthest corner (bbox) */
@@ -99,6 +106,9 @@ typedef struct rsa {
     size_t max_cells_param; /* vp_rsa_params.max_cells (0: automatic) */
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
+    int pretest;          /* solids: the pass has one radius (rmin), so darts are
+                             tested against the particles before their batch in
+                             parallel, and only against the batch's own serially */
     double a0;            /* level-0 cell side */
     double origin[3];     /* cell lattice origin */
     int level, max_level;
@@ -196,15 +206,42 @@ typedef struct solid_query {
     const double *q;
     double r;
     size_t skip;     /* never this j (grow: the particle itself) */
+    size_t from;     /* only j >= from */
     int posed;       /* cand holds the candidate posed about x */
+    int framed;      /* cubes: m holds the candidate's rotation */
+    double m[3][3];
     vp_poly_posed cand;
 } solid_query;
+
+/* Cubes: 1 (overlap) or 0 (apart) when one centre's distance to the other
+ * cube decides (vp_cube_center_test; a cube holds its insphere, radius
+ * rin r, and lies in its bounding sphere), else -1 and the SAT decides.
+ * Where it decides, the SAT gives the same answer, so the particles are
+ * those of the SAT alone, bit for bit; about half of the pairs between the
+ * two spheres' tests end here, without posing the neighbour. d: the
+ * candidate's centre less c_j. */
+static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_t j) {
+    const rsa *s = w->s;
+    if (!w->framed) {
+        vp_quat_to_matrix(w->q, w->m);
+        w->framed = 1;
+    }
+    double nd[3] = {-d[0], -d[1], -d[2]}; /* c_j from the candidate's centre */
+    int v = vp_cube_center_test((const double (*)[3])w->m, s->rin * w->r, nd, s->rin * rj, rj,
+                                s->coord_eps);
+    if (v >= 0) return v;
+    double qj[4], mj[3][3];
+    vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
+    vp_quat_to_matrix(qj, mj);
+    return vp_cube_center_test((const double (*)[3])mj, s->rin * rj, d, s->rin * w->r, w->r,
+                               s->coord_eps);
+}
 
 /* 1 (stop) when particle j overlaps the candidate. */
 static int solid_visit(void *user, uint32_t j) {
     solid_query *w = user;
     const rsa *s = w->s;
-    if (j == w->skip) return 0;
+    if (j == w->skip || j < w->from) return 0;
     const double *c = s->p->positions + 3 * (size_t)j;
     double rj = s->p->radii[j], e = w->r + rj, d[3], d2 = 0.0;
     for (int k = 0; k < 3; k++) {
@@ -219,6 +256,10 @@ static int solid_visit(void *user, uint32_t j) {
                 c[k] + rj * s->bb_lo[k] >= w->x[k] + w->r * s->bb_hi[k])
                 return 0;
         return 1;
+    }
+    if (s->cube) {
+        int v = cube_pair_quick(w, d, rj, j);
+        if (v >= 0) return v;
     }
     double qj[4];
     vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
@@ -244,20 +285,38 @@ static int solid_fits_wall(const rsa *s, const double x[3], double d, const doub
     return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
 }
 
-/* 1 if the solid fits the wall and overlaps none of particles [0, count). */
-static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
-                      size_t skip) {
-    if (!solid_fits_wall(s, x, d, q, r)) return 0;
+/* 1 if the solid overlaps none of particles [from, count) (but skip).
+ * Each pair is tested on its own, so the verdict over [0, count) is the
+ * conjunction of those over [0, n) and [n, count) for any n: the darts'
+ * parallel pre-test and the serial test of a batch split it so. */
+static int solid_clear_from(const rsa *s, const double x[3], const double q[4], double r,
+                            size_t skip, size_t from) {
     solid_query w;
     w.s = s;
     w.x = x;
     w.q = q;
     w.r = r;
     w.skip = skip;
+    w.from = from;
     w.posed = 0;
+    w.framed = 0;
+    size_t nnew = s->p->count - from;
+    if (from > 0 && nnew <= 32) { /* a few new particles: test them directly */
+        for (size_t j = from; j < s->p->count; j++)
+            if (solid_visit(&w, (uint32_t)j)) return 0;
+        return 1;
+    }
     /* the grid finds j within reach + r_j: widen it for the boxes */
     double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
-    return !vp_sgrid_query(&s->g, x, reach, solid_visit, &w);
+    /* own grid cell first: a candidate that fails mostly fails on a
+     * particle there, and the verdict does not depend on the order */
+    return !vp_sgrid_query_near(&s->g, x, reach, solid_visit, &w);
+}
+
+/* 1 if the solid fits the wall and overlaps none of particles [0, count). */
+static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
+                      size_t skip) {
+    return solid_fits_wall(s, x, d, q, r) && solid_clear_from(s, x, q, r, skip, 0);
 }
 
 /* --- active cells ------------------------------------------------------------- */
@@ -622,6 +681,13 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
         }
         size_t total = 0;
         for (size_t i = 0; i < nchunks; i++) total += j.nout[i];
+        /* solids: cells are dropped by a necessary condition only, so a
+         * split far over the budget is common near the end of a pass; the
+         * first round's ratio of children to parents tells it early (twice
+         * over: a wrong guess only keeps the current cells) */
+        if (!from_box && first && s->solid &&
+            (double)total / (double)(take ? take : 1) * (double)np > 2.0 * (double)s->cell_budget)
+            j.over = 1;
         if (!from_box && (j.over || total > s->cell_budget - nout)) {
             /* finer cells would take more memory than the budget allows: go on
              * with darts at this level (plain RSA in these cells) */
@@ -716,6 +782,9 @@ static void make_darts(void *user, size_t ci) {
                 for (int m = 0; m < 4; m++) f[m] = (float)q[m];
             }
             vp_quat_from_float(f, t->q);
+            /* one radius: the exact tests against the particles placed
+             * before the batch need not wait for the serial loop */
+            if (s->pretest) t->clr = solid_free(s, t->p, t->d, t->q, s->rmin, SIZE_MAX);
             continue;
         }
         if (t->d <= thr_ok(s, s->rmin) && s->n0) vp_sgrid_prefetch_cells(&s->g, t->p, t->p, s->rmax);
@@ -829,6 +898,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if ((double)fmax < vp_size_dist_max(&ps->radius)) fmax = nextafterf(fmax, HUGE_VALF);
     s->rmin = fmin;
     s->rmax = fmax;
+    /* every radius drawn is a float in [fmin, fmax]: equal bounds, one radius */
+    s->pretest = s->solid && fmin == fmax;
     s->stream_seed = vp_rng_stream(seed, 2 * (uint64_t)pass_index);
     uint64_t rad_state = vp_rng_stream(seed, 2 * (uint64_t)pass_index + 1);
     const vp_container_info *ci = &s->c->info;
@@ -928,7 +999,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             used++;
             rep->tries++;
             int good;
-            if (s->solid) {
+            if (s->solid && s->pretest) { /* cur_r == rmin; earlier particles done */
+                good = t->clr != 0.0 &&
+                       (s->p->count == s->n0 ||
+                        solid_clear_from(s, t->p, t->q, cur_r, SIZE_MAX, s->n0));
+            } else if (s->solid) {
                 good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
             } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
                        s->p->count > s->n0) { /* spheres placed in this batch */
@@ -1129,6 +1204,13 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         s.rin = s.poly ? s.poly->inradius : s.mesh->inradius;
         s.orient_random = params->orient == VP_ORIENT_RANDOM;
         s.bbox = params->overlap == VP_OVERLAP_BBOX;
+        s.cube = params->shape == VP_SHAPE_CUBE && !s.bbox;
+        double L = 0.0;
+        for (int k = 0; k < 3; k++) {
+            if (fabs(ci->bmin[k]) > L) L = fabs(ci->bmin[k]);
+            if (fabs(ci->bmax[k]) > L) L = fabs(ci->bmax[k]);
+        }
+        s.coord_eps = 64.0 * DBL_EPSILON * L;
         s.reach = 1.0;
         for (int k = 0; k < 3; k++) {
             s.bb_lo[k] = HUGE_VAL;

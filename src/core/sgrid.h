@@ -58,6 +58,12 @@ typedef int (*vp_sgrid_visit)(void *user, uint32_t j);
 int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
                    void *user);
 
+/* vp_sgrid_query visiting the particles of p's own cell (on each level)
+ * first: a caller that stops at the first hit (an overlap) mostly finds it
+ * there. The same particles, in another order. */
+int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
+                        void *user);
+
 /* The same for every particle j that may lie within `reach` + r_j of the
  * box [lo, hi] (per axis: a superset of the particles whose ball of radius
  * reach + r_j meets the box). */

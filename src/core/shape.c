@@ -336,3 +336,19 @@ double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4],
     vp_poly_pose(b, sb, qb, tb, ta, &pb);
     return posed_sat(&pa, &pb, 0);
 }
+
+/* ------------------------------------------------------------------ */
+/* Cube against a centre                                               */
+
+int vp_cube_center_test(const double R[3][3], double h, const double d[3], double rin, double r,
+                        double eps) {
+    double f = 0.0; /* squared distance from the point to the cube: a clamp in its frame */
+    for (int k = 0; k < 3; ++k) {
+        double u = fabs(R[0][k] * d[0] + R[1][k] * d[1] + R[2][k] * d[2]) - h;
+        if (u > 0) f += u * u;
+    }
+    double lo = rin * (1.0 - 1e-9) - eps, hi = r * (1.0 + 1e-9) + eps;
+    if (lo > 0 && f < lo * lo) return 1;
+    if (f > hi * hi) return 0;
+    return -1;
+}

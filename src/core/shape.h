@@ -59,6 +59,18 @@ double vp_poly_posed_separation(const vp_poly_posed *a, const vp_poly_posed *b);
  * SAT axis with a gap >= 0), but returns at the first separating axis. */
 int vp_poly_posed_overlap(const vp_poly_posed *a, const vp_poly_posed *b);
 
+/* Cheap exact cases of the overlap of a cube with another solid, from the
+ * other solid's centre alone: the cube has rotation R (local to world, as
+ * vp_quat_to_matrix) and half side h; the other solid's centre is at
+ * offset d from the cube's, and it holds the ball of radius rin about its
+ * centre and lies in the ball of radius r. Returns 1 when that centre is
+ * closer than rin to the cube (the interiors meet: an overlap), 0 when it
+ * is farther than r (apart), -1 when neither. eps: the absolute rounding
+ * of d. The margins (1e-9 relative, eps) are far above the rounding of
+ * vp_poly_separation, which so gives the same answer where this decides. */
+int vp_cube_center_test(const double R[3][3], double h, const double d[3], double rin, double r,
+                        double eps);
+
 /* Largest signed container distance (negative inside) over the surface of
  * the polyhedron placed at (scale, q, t) (q NULL: identity): its vertices
  * and, when the container is a level set of voxel size h, points of every
