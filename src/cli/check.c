@@ -125,8 +125,16 @@ int vp_cli_check(int argc, char **argv) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
     }
-    /* the packer's choices, from the file's metadata */
-    if (vp_describe_file(ctx, file, 1, &desc) == VP_OK) {
+    /* the packer's choices, from the file's metadata. The points were just
+     * read, so a file that cannot be described is a failure to report, not
+     * a file without metadata: falling back to the defaults would check
+     * a --fit center packing as fit inside */
+    if (vp_describe_file(ctx, file, 1, &desc) != VP_OK) {
+        status = vp_cli_die(1, "check: cannot read the metadata of %s: %s", file,
+                            vp_context_message(ctx));
+        goto done;
+    }
+    {
         const char *f = meta_value(desc, "fit");
         if (f && !fit_set) cp.fit = !strncmp(f, "\"center\"", 8) ? VP_FIT_CENTER : VP_FIT_INSIDE;
         const char *vs = meta_value(desc, "voxel_size");
