@@ -57,6 +57,18 @@ static vp_container *unit_box(void) {
     return c;
 }
 
+/* One pass of radius r: count spheres, or maximal when count is 0. */
+static void one_pass(vp_rsa_pass *ps, vp_rsa_params *rp, double r, size_t count, uint64_t seed) {
+    vp_rsa_pass_init(ps);
+    ps->count = count;
+    ps->maximal = count == 0;
+    vp_size_dist_constant(&ps->radius, r);
+    vp_rsa_params_init(rp);
+    rp->passes = ps;
+    rp->npasses = 1;
+    rp->seed = seed;
+}
+
 static void test_size_dist(void) {
     const char *specs[] = {"0.25", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6"};
     for (int s = 0; s < 4; s++) {
@@ -161,14 +173,9 @@ static void test_rsa_binary_grow(void) {
 static void test_rsa_retries_and_no_fit(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps;
-    vp_rsa_pass_init(&ps);
-    ps.count = 500;
-    vp_size_dist_constant(&ps.radius, 0.2);
-    ps.retries = 200;
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = &ps;
-    rp.npasses = 1;
+    one_pass(&ps, &rp, 0.2, 500, 0);
+    ps.retries = 200;
     vp_particles *p = NULL;
     vp_rsa_report rep;
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
@@ -197,14 +204,8 @@ static void test_rsa_maximal_leaves_no_room(void) {
     ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
     const double r = 0.06;
     vp_rsa_pass ps;
-    vp_rsa_pass_init(&ps);
-    ps.maximal = 1;
-    vp_size_dist_constant(&ps.radius, r);
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = &ps;
-    rp.npasses = 1;
-    rp.seed = 11;
+    one_pass(&ps, &rp, r, 0, 11);
     vp_particles *p = NULL;
     vp_rsa_report rep;
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
@@ -251,14 +252,8 @@ static void test_rsa_count_near_saturation(void) {
     const size_t n = 20000;
     const double r = cbrt(0.333 / (n * 4.0 / 3.0 * M_PI));
     vp_rsa_pass ps;
-    vp_rsa_pass_init(&ps);
-    ps.count = n;
-    vp_size_dist_constant(&ps.radius, r);
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = &ps;
-    rp.npasses = 1;
-    rp.seed = 5;
+    one_pass(&ps, &rp, r, n, 5);
     vp_particles *p = NULL;
     vp_rsa_report rep;
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
@@ -283,17 +278,10 @@ static void test_rsa_count_near_saturation(void) {
  * and stops at 0.28. */
 static void test_rsa_cell_budget(void) {
     vp_container *c = unit_box();
-    const double r = 0.015;
     vp_rsa_pass ps;
-    vp_rsa_pass_init(&ps);
-    ps.maximal = 1;
-    ps.retries = 30000;
-    vp_size_dist_constant(&ps.radius, r);
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = &ps;
-    rp.npasses = 1;
-    rp.seed = 21;
+    one_pass(&ps, &rp, 0.015, 0, 21);
+    ps.retries = 30000;
     rp.max_cells = 108000;
     vp_particles *a = NULL, *b = NULL;
     vp_rsa_report rep;

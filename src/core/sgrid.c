@@ -111,17 +111,25 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r) {
     if (r > L->rmax) L->rmax = r;
 }
 
+/* Cells [a, b] of level L that a query of the box [lo, hi] with reach
+ * reads; 0 when the level is empty. */
+static int level_range(const vp_sgrid *g, const vp_sgrid_level *L, const double lo[3],
+                       const double hi[3], double reach, int64_t a[3], int64_t b[3]) {
+    if (L->rmax <= 0) return 0;
+    double R = reach + L->rmax;
+    for (int k = 0; k < 3; k++) {
+        a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
+        b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
+    }
+    return 1;
+}
+
 int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
                        vp_sgrid_visit fn, void *user) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
-        if (L->rmax <= 0) continue; /* empty level */
-        double R = reach + L->rmax;
         int64_t a[3], b[3];
-        for (int k = 0; k < 3; k++) {
-            a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
-            b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
-        }
+        if (!level_range(g, L, lo, hi, reach, a, b)) continue;
         for (int64_t z = a[2]; z <= b[2]; z++)
             for (int64_t y = a[1]; y <= b[1]; y++) {
                 const uint32_t *row = L->head + (size_t)((z * L->dims[1] + y) * L->dims[0]);
@@ -133,18 +141,14 @@ int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3]
     return 0;
 }
 
-/* Calls the hint for every row of cells a query of p with reach reads. */
+/* Issues the hints for every row of cells a query of [lo, hi] with reach
+ * reads (positions NULL: the rows; else their first particles). */
 static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi[3],
                           double reach, const double *positions) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
-        if (L->rmax <= 0) continue;
-        double R = reach + L->rmax;
         int64_t a[3], b[3];
-        for (int k = 0; k < 3; k++) {
-            a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
-            b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
-        }
+        if (!level_range(g, L, lo, hi, reach, a, b)) continue;
         for (int64_t z = a[2]; z <= b[2]; z++)
             for (int64_t y = a[1]; y <= b[1]; y++) {
                 const uint32_t *row = L->head + (size_t)((z * L->dims[1] + y) * L->dims[0]);
@@ -177,14 +181,9 @@ int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach, vp_s
                         void *user) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
-        if (L->rmax <= 0) continue; /* empty level */
-        double R = reach + L->rmax;
         int64_t a[3], b[3], c[3];
-        for (int k = 0; k < 3; k++) {
-            a[k] = cell_coord(L, p[k] - R, g->origin[k], k);
-            b[k] = cell_coord(L, p[k] + R, g->origin[k], k);
-            c[k] = cell_coord(L, p[k], g->origin[k], k);
-        }
+        if (!level_range(g, L, p, p, reach, a, b)) continue;
+        for (int k = 0; k < 3; k++) c[k] = cell_coord(L, p[k], g->origin[k], k);
         size_t own = (size_t)((c[2] * L->dims[1] + c[1]) * L->dims[0] + c[0]);
         for (uint32_t j = L->head[own]; j != VP_SGRID_NONE; j = g->next[j])
             if (fn(user, j)) return 1;
