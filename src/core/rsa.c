@@ -219,8 +219,10 @@ typedef struct solid_query {
  * Where it decides, the SAT gives the same answer, so the particles are
  * those of the SAT alone, bit for bit; about half of the pairs between the
  * two spheres' tests end here, without posing the neighbour. d: the
- * candidate's centre less c_j. */
-static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_t j) {
+ * candidate's centre less c_j. When it returns -1, qj holds particle j's
+ * orientation (read for the second test), for the SAT. */
+static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_t j,
+                           double qj[4]) {
     const rsa *s = w->s;
     if (!w->framed) {
         vp_quat_to_matrix(w->q, w->m);
@@ -230,7 +232,7 @@ static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_
     int v = vp_cube_center_test((const double (*)[3])w->m, s->rin * w->r, nd, s->rin * rj, rj,
                                 s->coord_eps);
     if (v >= 0) return v;
-    double qj[4], mj[3][3];
+    double mj[3][3];
     vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     vp_quat_to_matrix(qj, mj);
     return vp_cube_center_test((const double (*)[3])mj, s->rin * rj, d, s->rin * w->r, w->r,
@@ -257,12 +259,13 @@ static int solid_visit(void *user, uint32_t j) {
                 return 0;
         return 1;
     }
-    if (s->cube) {
-        int v = cube_pair_quick(w, d, rj, j);
-        if (v >= 0) return v;
-    }
     double qj[4];
-    vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
+    if (s->cube) {
+        int v = cube_pair_quick(w, d, rj, j, qj);
+        if (v >= 0) return v;
+    } else {
+        vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
+    }
     if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, w->q, w->x, rj, qj, c, NULL);
     /* the candidate is posed once for all its neighbours; both relative
      * to its centre (the numbers of vp_poly_separation, bit for bit), and

@@ -142,7 +142,9 @@ int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3]
 }
 
 /* Issues the hints for every row of cells a query of [lo, hi] with reach
- * reads (positions NULL: the rows; else their first particles). */
+ * reads (positions NULL: the rows; else their first particles). It walks
+ * the rows as vp_sgrid_query_box does; a shared row walker would put a
+ * call per row on the query's hot path. */
 static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi[3],
                           double reach, const double *positions) {
     for (int l = 0; l < g->nlevels; l++) {
