@@ -28,7 +28,7 @@ vg() { # NAME ARGS...
   if [ "$rc" != 0 ] || grep -E "ERROR SUMMARY: [1-9]" "$V/$name.log" >/dev/null; then
     echo "valgrind: $name: exit $rc"; cat "$V/$name.log"; exit 1
   fi
-  echo "  ok: vdbpack $* ($(grep -c 'ERROR SUMMARY: 0 errors' "$V/$name.log") process(es), 0 errors, $(grep -Eo 'definitely lost: [0-9,]+ bytes' "$V/$name.log" | head -1))"
+  echo "  ok: vdbpack $* ($(grep -c 'ERROR SUMMARY: 0 errors' "$V/$name.log") process(es), 0 errors, $(grep -Eo 'definitely lost: [0-9,]+ bytes' "$V/$name.log" | sed -n 1p))"
 }
 vg mesh pack vdb_samples/box.obj --radius 0.1 -o "$V/box.vdb" --save-container "$V/box_ls.vdb" -q
 vg rsa pack "$V/box_ls.vdb" --method rsa --radius 0.05 --count 300 -o "$V/rsa.vdb" -q

@@ -5,4 +5,4 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 ./build/vdbpack pack vdb_samples/peanut.obj --count 20000 -o peanut_packed.vdb \
   --save-container peanut_container.vdb "$@"
-./build/vdbpack info peanut_packed.vdb | head -n 20
+./build/vdbpack info peanut_packed.vdb | sed -n 1,20p

@@ -74,17 +74,20 @@ for t in "${TARGETS[@]}"; do
   for x in "$F"/timeout-* "$F"/crash-*; do
     [ -e "$x" ] && [ "$t" = fuzz_vdb ] || continue
     # whose finding: the first stack frame outside the sanitizer runtime,
-    # libc and libstdc++ must be OpenVDB's (its library or its headers)
+    # libc and libstdc++ must be OpenVDB's (its library or its headers).
+    # `sed -n 1p`, never `head`: head exits early, grep then dies of
+    # SIGPIPE, and pipefail + errexit ended this script with status 141
+    # on a long report (2026-11-23)
     "$B/fuzz/$t" "$x" -timeout=10 >"$F/replay.txt" 2>&1 || true
     first=$(grep -E "^ +#[0-9]+ 0x" "$F/replay.txt" |
             grep -vE "__interceptor_|__asan|__sanitizer|__ubsan|fuzzer::|AlarmCallback|libc\.so|libstdc\+\+\.so|libgcc_s|/libc/|sysdeps/|fuzz/$t\+0x|fuzz/fuzz_new\.cpp|operator new" |
-            head -1)
+            sed -n 1p)
     # (frames of the fuzz binary without a source file are the sanitizer
     # runtime's: malloc, memcpy; fuzz_new.cpp is the targets' operator new,
     # see the Fuzzing section of docs/hardening.md; a timeout that does not recur on replay
     # leaves no stack and goes straight to the containment check)
     if [ -n "$first" ] && ! printf '%s\n' "$first" | grep -Eq "libopenvdb\.so|/usr/include/openvdb/"; then
-      echo "  $t: $(basename "$x"): a finding outside OpenVDB: ${first:-no stack}"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | head -6
+      echo "  $t: $(basename "$x"): a finding outside OpenVDB: ${first:-no stack}"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | sed -n 1,6p
       continue
     fi
     cp "$x" "$F/replay.vdb"
@@ -112,7 +115,7 @@ for t in "${TARGETS[@]}"; do
     if [ "$kind" = crash ]; then
       "$B/fuzz/$t" "$x" >"$F/replay.txt" 2>&1 || true
       grep -Eq "SUMMARY: [A-Za-z]+Sanitizer: .*libassimp\.so" "$F/replay.txt" || {
-        echo "  $t: $(basename "$x"): a crash outside Assimp:"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | head -6
+        echo "  $t: $(basename "$x"): a crash outside Assimp:"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | sed -n 1,6p
         continue; }
     fi
     case $(( $(head -c 1 "$x" | od -An -tu1 | tr -d ' ') & 7 )) in
@@ -139,7 +142,7 @@ for t in "${TARGETS[@]}"; do
       echo "  $t: $(basename "$x"): a third-party leak of fuzz/lsan.supp once fully unwound"
       mv "$x" "$F/contained-$(basename "$x")"
     else
-      echo "  $t: $(basename "$x"): a leak:"; grep -E "SUMMARY|#[0-5] " "$F/replay.txt" | head -8
+      echo "  $t: $(basename "$x"): a leak:"; grep -E "SUMMARY|#[0-5] " "$F/replay.txt" | sed -n 1,8p
     fi
   done
   found=$(find "$F" -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' | wc -l)
