@@ -752,10 +752,10 @@ typedef struct dart_job {
     size_t chunk;
 } dart_job;
 
-/* Makes darts [lo, hi) of the batch in three sweeps, so that the memory
- * each needs (a random active cell, then the neighbour grid's cells and
- * particles around the dart) is requested for the whole chunk before it is
- * used: a dart is a chain of dependent cache misses, and the sweeps let
+/* Makes darts [lo, hi) of the batch in sweeps (cells; positions and the
+ * neighbour grid's cells; the first particle of each grid cell; the
+ * tests), so that the memory each dart needs is requested for the whole
+ * chunk one sweep before it is used: a dart is a chain of dependent cache misses, and the sweeps let
  * the misses of different darts overlap. Each dart draws from its own
  * stream in the same order as one sweep would (cell, position, rotation). */
 static void make_darts(void *user, size_t ci) {
@@ -1003,7 +1003,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             used++;
             rep->tries++;
             int good;
-            if (s->solid && s->pretest) { /* cur_r == rmin; earlier particles done */
+            if (s->pretest) { /* a solid, cur_r == rmin; earlier particles done */
                 good = t->clr != 0.0 &&
                        (s->p->count == s->n0 ||
                         solid_clear_from(s, t->p, t->q, cur_r, SIZE_MAX, s->n0));
