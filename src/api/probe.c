@@ -68,14 +68,15 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
         _exit(bad ? 3 : 0);
     }
     close(fds[1]);
-    double deadline = vp_subproc_now() + timeout;
+    vp_subproc_watch watch;
+    vp_subproc_watch_start(&watch, pid, timeout);
     int32_t rc = 0;
     uint32_t n = 0;
     char msg[1024];
-    int rr = vp_subproc_read_all(fds[0], &rc, sizeof rc, deadline);
-    if (rr == 0) rr = vp_subproc_read_all(fds[0], &n, sizeof n, deadline);
+    int rr = vp_subproc_read_all(fds[0], &rc, sizeof rc, &watch);
+    if (rr == 0) rr = vp_subproc_read_all(fds[0], &n, sizeof n, &watch);
     if (rr == 0 && n >= sizeof msg) rr = -1;
-    if (rr == 0) rr = vp_subproc_read_all(fds[0], msg, n, deadline);
+    if (rr == 0) rr = vp_subproc_read_all(fds[0], msg, n, &watch);
     close(fds[0]);
     int status = 0;
     if (rr == 2) {

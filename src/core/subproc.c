@@ -1,9 +1,12 @@
 /* See subproc.h. */
 #include "core/subproc.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <poll.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -27,18 +30,76 @@ int vp_subproc_write_all(int fd, const void *buf, size_t n) {
     return 0;
 }
 
-int vp_subproc_read_all(int fd, void *buf, size_t n, double deadline) {
+void vp_subproc_watch_start(vp_subproc_watch *w, pid_t pid, double timeout) {
+    w->pid = pid;
+    w->timeout = timeout;
+    w->start = vp_subproc_now();
+    w->deadline = w->start + timeout;
+}
+
+/* 1 when some thread of the child is runnable (state R) and the child has
+ * used less than `cpu` seconds of CPU time; 0 otherwise or when /proc
+ * cannot tell (then the deadline stands). */
+static int child_starved(pid_t pid, double cpu) {
+    char path[64];
+    snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    char buf[1024];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    const char *p = strrchr(buf, ')'); /* the command name may hold spaces */
+    unsigned long long ut = 0, st = 0;
+    if (!p || sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &ut,
+                     &st) != 2)
+        return 0;
+    long hz = sysconf(_SC_CLK_TCK);
+    if (hz <= 0 || (double)(ut + st) / (double)hz >= cpu) return 0;
+    snprintf(path, sizeof path, "/proc/%d/task", (int)pid);
+    DIR *d = opendir(path);
+    if (!d) return 0;
+    int runnable = 0;
+    for (struct dirent *e; !runnable && (e = readdir(d));) {
+        if (e->d_name[0] == '.') continue;
+        char tp[128];
+        snprintf(tp, sizeof tp, "/proc/%d/task/%.32s/stat", (int)pid, e->d_name);
+        FILE *t = fopen(tp, "r");
+        if (!t) continue;
+        n = fread(buf, 1, sizeof buf - 1, t);
+        fclose(t);
+        buf[n] = '\0';
+        p = strrchr(buf, ')');
+        runnable = p && p[1] == ' ' && p[2] == 'R';
+    }
+    closedir(d);
+    return runnable;
+}
+
+/* 1 when the watch's deadline was moved on (see vp_subproc_watch). */
+static int extend(vp_subproc_watch *w) {
+    double now = vp_subproc_now();
+    if (now >= w->start + 10.0 * w->timeout || !child_starved(w->pid, 0.5 * w->timeout))
+        return 0;
+    w->deadline = now + 1.0;
+    return 1;
+}
+
+int vp_subproc_read_all(int fd, void *buf, size_t n, vp_subproc_watch *w) {
     char *p = buf;
     while (n) {
-        double left = deadline - vp_subproc_now();
-        if (left <= 0) return 2;
+        double left = w->deadline - vp_subproc_now();
+        if (left <= 0) {
+            if (!extend(w)) return 2;
+            continue;
+        }
         struct pollfd pfd = {fd, POLLIN, 0};
         int pr = poll(&pfd, 1, (int)(left * 1000.0) + 1);
         if (pr < 0) {
             if (errno == EINTR) continue;
             return -1;
         }
-        if (pr == 0) return 2;
+        if (pr == 0) continue; /* the deadline, checked above */
         ssize_t r = read(fd, p, n);
         if (r < 0) {
             if (errno == EINTR || errno == EAGAIN) continue;

@@ -22,13 +22,32 @@
 #endif
 #endif
 
+#include <sys/types.h>
+
 /* Monotonic clock, seconds. */
 double vp_subproc_now(void);
 /* Writes all n bytes (retrying on EINTR): 0, or -1 on error. */
 int vp_subproc_write_all(int fd, const void *buf, size_t n);
-/* Reads exactly n bytes before the deadline (vp_subproc_now() seconds):
- * 0 on success, 1 on EOF first, -1 on error, 2 on timeout. */
-int vp_subproc_read_all(int fd, void *buf, size_t n, double deadline);
+
+/* The deadline of a child. A child that is still runnable at its deadline
+ * but has had less than half of it in CPU time (the machine was starved:
+ * other processes, or a hypervisor that did not run this machine, which
+ * Linux counts as steal time and charges to no process) gets more wall
+ * time, one second at a time, up to 10 times the timeout: a timeout is
+ * meant for a reader that loops or blocks on a bad file, not for a slow
+ * machine. A child whose threads all sleep (a reader blocked on a FIFO,
+ * a deadlock) or that has used its CPU time ends at the deadline. */
+typedef struct vp_subproc_watch {
+    pid_t pid;
+    double timeout;  /* seconds */
+    double start;    /* vp_subproc_now() when the child started */
+    double deadline; /* moves while the child is starved */
+} vp_subproc_watch;
+/* Starts the watch of child pid with the given timeout. */
+void vp_subproc_watch_start(vp_subproc_watch *w, pid_t pid, double timeout);
+/* Reads exactly n bytes before the watch's deadline: 0 on success, 1 on
+ * EOF first, -1 on error, 2 on timeout. */
+int vp_subproc_read_all(int fd, void *buf, size_t n, vp_subproc_watch *w);
 /* A deadline from the environment variable env (seconds, > 0) when set,
  * otherwise base + per_mb seconds per MB of file_bytes. */
 double vp_subproc_timeout(const char *env, double base, double per_mb, size_t file_bytes);

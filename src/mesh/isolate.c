@@ -109,15 +109,16 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
     }
     close(fds[1]);
 
-    double deadline = vp_subproc_now() + timeout;
+    vp_subproc_watch watch;
+    vp_subproc_watch_start(&watch, pid, timeout);
     vp_result res = VP_OK;
     vp_mesh *m = NULL;
     wire_header h;
-    int rr = vp_subproc_read_all(fds[0], &h, sizeof h, deadline);
+    int rr = vp_subproc_read_all(fds[0], &h, sizeof h, &watch);
     if (rr == 0) {
         char msg[512];
         size_t el = h.errlen < sizeof msg ? h.errlen : sizeof msg - 1;
-        rr = vp_subproc_read_all(fds[0], msg, el, deadline);
+        rr = vp_subproc_read_all(fds[0], msg, el, &watch);
         msg[rr == 0 ? el : 0] = '\0';
         if (rr == 0 && h.result != VP_OK) {
             res = (vp_result)h.result;
@@ -142,9 +143,9 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
                 m->signed_volume = h.signed_volume;
                 memcpy(m->bmin, h.bmin, sizeof h.bmin);
                 memcpy(m->bmax, h.bmax, sizeof h.bmax);
-                rr = vp_subproc_read_all(fds[0], m->verts, 3 * h.nverts * sizeof *m->verts, deadline);
+                rr = vp_subproc_read_all(fds[0], m->verts, 3 * h.nverts * sizeof *m->verts, &watch);
                 if (rr == 0)
-                    rr = vp_subproc_read_all(fds[0], m->tris, 3 * h.ntris * sizeof *m->tris, deadline);
+                    rr = vp_subproc_read_all(fds[0], m->tris, 3 * h.ntris * sizeof *m->tris, &watch);
             }
         }
     }
