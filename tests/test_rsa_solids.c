@@ -285,6 +285,42 @@ static void test_dense_threads(void) {
     vp_container_destroy(c);
 }
 
+/* A pass of one radius pre-tests every dart in parallel (the exact tests
+ * against the particles before its batch run while the darts are made),
+ * also when the radius is not a float (0.07): the radius drawn is the
+ * float nearest it, the same for every particle. A size distribution
+ * cannot (each radius is drawn in the serial loop). */
+static void test_pretest(void) {
+    vp_container *c = box(0.5);
+    const double radii[3] = {0.07, 0.0625, -1.0}; /* -1: uniform 0.06..0.07 */
+    for (int k = 0; k < 3; k++) {
+        vp_rsa_pass ps;
+        vp_rsa_pass_init(&ps);
+        ps.count = 200;
+        ps.retries = 2000;
+        if (radii[k] > 0) vp_size_dist_constant(&ps.radius, radii[k]);
+        else ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.06:0.07", &ps.radius), VP_OK);
+        vp_rsa_params rp;
+        vp_rsa_params_init(&rp);
+        rp.shape = VP_SHAPE_CUBE;
+        rp.passes = &ps;
+        rp.npasses = 1;
+        rp.seed = 5;
+        vp_particles *p = NULL;
+        vp_rsa_report rep;
+        ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+        fprintf(stderr, "   radius %g: %zu placed, %llu tries, %llu pre-tested\n", radii[k],
+                p->count, (unsigned long long)rep.passes[0].tries,
+                (unsigned long long)rep.passes[0].pretested);
+        ASSERT_GE(rep.passes[0].tries, 200);
+        if (radii[k] > 0) ASSERT_TRUE(rep.passes[0].pretested == rep.passes[0].tries);
+        else ASSERT_TRUE(rep.passes[0].pretested == 0);
+        expect_clean(c, p, 0.5);
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+}
+
 int main(void) {
     ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
     RUN_TEST(test_random_orientations);
@@ -292,6 +328,7 @@ int main(void) {
     RUN_TEST(test_grow);
     RUN_TEST(test_bad);
     RUN_TEST(test_dense_threads);
+    RUN_TEST(test_pretest);
     vp_context_destroy(ctx);
     return 0;
 }

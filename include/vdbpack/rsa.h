@@ -63,6 +63,9 @@ typedef struct vp_rsa_pass_report {
     size_t placed;
     vp_rsa_stop stop;
     uint64_t tries;        /* candidate centres tested */
+    uint64_t pretested;    /* solids: tries whose exact tests against the particles
+                              placed before their batch ran in parallel while the
+                              darts were made (every try of a one-radius pass) */
     int budget_hit;        /* 1 when a refinement of the empty space would have
                               made more than max_cells cells: the pass went on
                               with plain darts in the cells it had */

@@ -70,8 +70,11 @@ typedef struct dart {
     double clr;   /* spheres: min over earlier particles of |p - c_j| - r_j (capped);
                      solids of a one-radius pass: 1 when the solid fits the wall and
                      overlaps no earlier particle, else 0 */
-    uint64_t st;  /* its random stream, between the sweeps of make_darts */
+    uint64_t st;  /* its random stream, between the sweeps of make_darts, and
+                     for the orientation until it is drawn */
     uint32_t cell;
+    int qready;   /* solids: q has been drawn (when a test first needs it: a
+                     dart rejected by a sphere test never draws it) */
 } dart;
 
 typedef struct rsa {
@@ -201,10 +204,13 @@ static double clearance(const rsa *s, const double x[3], double reach, double st
  * A solid's orientation is tested as written: the float quaternion,
  * renormalised in double (as vdbpack check reads it back). */
 
+#define DEFER_MAX 64
+
 typedef struct solid_query {
     const rsa *s;
     const double *x; /* the candidate: centre, orientation, radius */
     const double *q;
+    struct dart *lazy; /* q is this dart's, not drawn yet (else NULL) */
     double r;
     size_t skip;     /* never this j (grow: the particle itself) */
     size_t from;     /* only j >= from */
@@ -212,7 +218,39 @@ typedef struct solid_query {
     int framed;      /* cubes: m holds the candidate's rotation */
     double m[3][3];
     vp_poly_posed cand;
+    /* The neighbours that the cheap tests (spheres, the candidate's own
+     * cube test) leave undecided, tested exactly after all the others
+     * have had their cheap tests: a candidate that some neighbour's cheap
+     * test rejects then costs no exact test at all. The verdict is the
+     * same conjunction in another order. */
+    size_t ndefer;
+    uint32_t defer[DEFER_MAX];
 } solid_query;
+
+/* The dart's orientation: drawn from its stream on first use (the stream
+ * is left after the position, so the value does not depend on when), as
+ * stored: float, renormalised in double. */
+static const double *dart_quat(const rsa *s, dart *t) {
+    if (!t->qready) {
+        float f[4] = {0, 0, 0, 1};
+        if (s->orient_random) {
+            double q[4];
+            vp_rng_quat(&t->st, q);
+            for (int m = 0; m < 4; m++) f[m] = (float)q[m];
+        }
+        vp_quat_from_float(f, t->q);
+        t->qready = 1;
+    }
+    return t->q;
+}
+
+static const double *cand_quat(solid_query *w) {
+    if (w->lazy) {
+        dart_quat(w->s, w->lazy);
+        w->lazy = NULL;
+    }
+    return w->q;
+}
 
 /* Cubes: 1 (overlap) or 0 (apart) when one centre's distance to the other
  * cube decides (vp_cube_center_test; a cube holds its insphere, radius
@@ -220,19 +258,23 @@ typedef struct solid_query {
  * Where it decides, the SAT gives the same answer, so the particles are
  * those of the SAT alone, bit for bit; about half of the pairs between the
  * two spheres' tests end here, without posing the neighbour. d: the
- * candidate's centre less c_j. When it returns -1, qj holds particle j's
- * orientation (read for the second test), for the SAT. */
-static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_t j,
-                           double qj[4]) {
+ * candidate's centre less c_j. Two tests: cube_quick_cand (c_j against the
+ * candidate's cube), then cube_quick_other (the candidate's centre against
+ * cube j), which leaves particle j's orientation in qj for the SAT. */
+static int cube_quick_cand(solid_query *w, const double d[3], double rj) {
     const rsa *s = w->s;
     if (!w->framed) {
-        vp_quat_to_matrix(w->q, w->m);
+        vp_quat_to_matrix(cand_quat(w), w->m);
         w->framed = 1;
     }
     double nd[3] = {-d[0], -d[1], -d[2]}; /* c_j from the candidate's centre */
-    int v = vp_cube_center_test((const double (*)[3])w->m, s->rin * w->r, nd, s->rin * rj, rj,
-                                s->coord_eps);
-    if (v >= 0) return v;
+    return vp_cube_center_test((const double (*)[3])w->m, s->rin * w->r, nd, s->rin * rj, rj,
+                               s->coord_eps);
+}
+
+static int cube_quick_other(solid_query *w, const double d[3], double rj, uint32_t j,
+                            double qj[4]) {
+    const rsa *s = w->s;
     double mj[3][3];
     vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     vp_quat_to_matrix(qj, mj);
@@ -240,7 +282,42 @@ static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_
                                s->coord_eps);
 }
 
-/* 1 (stop) when particle j overlaps the candidate. */
+static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_t j,
+                           double qj[4]) {
+    int v = cube_quick_cand(w, d, rj);
+    return v >= 0 ? v : cube_quick_other(w, d, rj, j, qj);
+}
+
+/* The exact test of the candidate against particle j, after the sphere
+ * tests (and, for cubes, the candidate's own centre test: skip_cand)
+ * left it undecided. 1 overlap. */
+static int solid_exact(solid_query *w, uint32_t j, int skip_cand) {
+    const rsa *s = w->s;
+    const double *c = s->p->positions + 3 * (size_t)j;
+    double rj = s->p->radii[j], d[3];
+    for (int k = 0; k < 3; k++) d[k] = w->x[k] - c[k];
+    double qj[4];
+    if (s->cube) {
+        int v = skip_cand ? cube_quick_other(w, d, rj, j, qj) : cube_pair_quick(w, d, rj, j, qj);
+        if (v >= 0) return v;
+    } else {
+        vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
+    }
+    if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, cand_quat(w), w->x, rj, qj, c, NULL);
+    /* the candidate is posed once for all its neighbours; both relative
+     * to its centre (the numbers of vp_poly_separation, bit for bit), and
+     * the test stops at the first separating axis */
+    if (!w->posed) {
+        vp_poly_pose(s->poly, w->r, cand_quat(w), w->x, w->x, &w->cand);
+        w->posed = 1;
+    }
+    vp_poly_posed pj;
+    vp_poly_pose(s->poly, rj, qj, c, w->x, &pj);
+    return vp_poly_posed_overlap(&w->cand, &pj);
+}
+
+/* 1 (stop) when particle j overlaps the candidate. The exact tests wait
+ * in w->defer while there is room (see solid_query). */
 static int solid_visit(void *user, uint32_t j) {
     solid_query *w = user;
     const rsa *s = w->s;
@@ -260,24 +337,24 @@ static int solid_visit(void *user, uint32_t j) {
                 return 0;
         return 1;
     }
-    double qj[4];
+    int skip_cand = 0;
     if (s->cube) {
-        int v = cube_pair_quick(w, d, rj, j, qj);
+        int v = cube_quick_cand(w, d, rj);
         if (v >= 0) return v;
-    } else {
-        vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
+        skip_cand = 1;
     }
-    if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, w->q, w->x, rj, qj, c, NULL);
-    /* the candidate is posed once for all its neighbours; both relative
-     * to its centre (the numbers of vp_poly_separation, bit for bit), and
-     * the test stops at the first separating axis */
-    if (!w->posed) {
-        vp_poly_pose(s->poly, w->r, w->q, w->x, w->x, &w->cand);
-        w->posed = 1;
+    if (w->ndefer < DEFER_MAX) {
+        w->defer[w->ndefer++] = j;
+        return 0;
     }
-    vp_poly_posed pj;
-    vp_poly_pose(s->poly, rj, qj, c, w->x, &pj);
-    return vp_poly_posed_overlap(&w->cand, &pj);
+    return solid_exact(w, j, skip_cand);
+}
+
+/* The deferred exact tests: 1 when one of them overlaps. */
+static int solid_deferred(solid_query *w) {
+    for (size_t t = 0; t < w->ndefer; t++)
+        if (solid_exact(w, w->defer[t], w->s->cube)) return 1;
+    return 0;
 }
 
 /* 1 if the solid (centre x with container distance d, orientation q,
@@ -293,34 +370,42 @@ static int solid_fits_wall(const rsa *s, const double x[3], double d, const doub
  * Each pair is tested on its own, so the verdict over [0, count) is the
  * conjunction of those over [0, n) and [n, count) for any n: the darts'
  * parallel pre-test and the serial test of a batch split it so. */
-static int solid_clear_from(const rsa *s, const double x[3], const double q[4], double r,
-                            size_t skip, size_t from) {
+static int solid_clear_from(const rsa *s, const double x[3], const double q[4], dart *lazy,
+                            double r, size_t skip, size_t from) {
     solid_query w;
     w.s = s;
     w.x = x;
     w.q = q;
+    w.lazy = lazy && !lazy->qready ? lazy : NULL;
     w.r = r;
     w.skip = skip;
     w.from = from;
     w.posed = 0;
     w.framed = 0;
+    w.ndefer = 0;
     size_t nnew = s->p->count - from;
     if (from > 0 && nnew <= 32) { /* a few new particles: test them directly */
         for (size_t j = from; j < s->p->count; j++)
             if (solid_visit(&w, (uint32_t)j)) return 0;
-        return 1;
+        return !solid_deferred(&w);
     }
     /* the grid finds j within reach + r_j: widen it for the boxes */
     double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
     /* own grid cell first: a candidate that fails mostly fails on a
      * particle there, and the verdict does not depend on the order */
-    return !vp_sgrid_query_near(&s->g, x, reach, solid_visit, &w);
+    return !vp_sgrid_query_near(&s->g, x, reach, solid_visit, &w) && !solid_deferred(&w);
 }
 
 /* 1 if the solid fits the wall and overlaps none of particles [0, count). */
 static int solid_free(const rsa *s, const double x[3], double d, const double q[4], double r,
                       size_t skip) {
-    return solid_fits_wall(s, x, d, q, r) && solid_clear_from(s, x, q, r, skip, 0);
+    return solid_fits_wall(s, x, d, q, r) && solid_clear_from(s, x, q, NULL, r, skip, 0);
+}
+
+/* solid_free for a dart, drawing its orientation only when a test needs it. */
+static int dart_solid_free(const rsa *s, dart *t, double r) {
+    if (!(t->d <= thr_ok(s, r)) && !solid_fits_wall(s, t->p, t->d, dart_quat(s, t), r)) return 0;
+    return solid_clear_from(s, t->p, t->q, t, r, SIZE_MAX, 0);
 }
 
 /* --- active cells ------------------------------------------------------------- */
@@ -779,16 +864,11 @@ static void make_darts(void *user, size_t ci) {
         t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
         if (s->solid) { /* the exact tests depend on the radius: on accepting */
-            float f[4] = {0, 0, 0, 1};
-            if (s->orient_random) {
-                double q[4];
-                vp_rng_quat(&t->st, q);
-                for (int m = 0; m < 4; m++) f[m] = (float)q[m];
-            }
-            vp_quat_from_float(f, t->q);
+            t->qready = 0;
             /* one radius: the exact tests against the particles placed
              * before the batch need not wait for the serial loop */
-            if (s->pretest) t->clr = solid_free(s, t->p, t->d, t->q, s->rmin, SIZE_MAX);
+            if (s->pretest) t->clr = dart_solid_free(s, t, s->rmin);
+            else dart_quat(s, t);
             continue;
         }
         if (t->d <= thr_ok(s, s->rmin) && s->n0) vp_sgrid_prefetch_cells(&s->g, t->p, t->p, s->rmax);
@@ -898,8 +978,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     rep->grow_mean = 1.0;
     /* radii are stored as float: bound the float values drawn */
     float fmin = (float)vp_size_dist_min(&ps->radius), fmax = (float)vp_size_dist_max(&ps->radius);
-    if ((double)fmin > vp_size_dist_min(&ps->radius)) fmin = nextafterf(fmin, 0.0f);
-    if ((double)fmax < vp_size_dist_max(&ps->radius)) fmax = nextafterf(fmax, HUGE_VALF);
+    if (ps->radius.kind != VP_SIZE_CONSTANT) { /* a constant is drawn as (float) itself */
+        if ((double)fmin > vp_size_dist_min(&ps->radius)) fmin = nextafterf(fmin, 0.0f);
+        if ((double)fmax < vp_size_dist_max(&ps->radius)) fmax = nextafterf(fmax, HUGE_VALF);
+    }
     s->rmin = fmin;
     s->rmax = fmax;
     /* every radius drawn is a float in [fmin, fmax]: equal bounds, one radius */
@@ -999,14 +1081,15 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         size_t ok = 0, used = 0;
         double a = cell_side(s, s->level), diag = a * sqrt(3.0);
         for (size_t k = 0; k < B; k++) {
-            const dart *t = &s->darts[k];
+            dart *t = &s->darts[k];
             used++;
             rep->tries++;
             int good;
             if (s->pretest) { /* a solid, cur_r == rmin; earlier particles done */
+                rep->pretested++;
                 good = t->clr != 0.0 &&
                        (s->p->count == s->n0 ||
-                        solid_clear_from(s, t->p, t->q, cur_r, SIZE_MAX, s->n0));
+                        solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
             } else if (s->solid) {
                 good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
             } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
@@ -1050,8 +1133,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             if (i == 0) s->uni_r = (float)cur_r;
             else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
             s->p->groups[i] = (uint16_t)pass_index;
-            if (s->solid)
-                for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)t->q[m];
+            if (s->solid) {
+                const double *q = dart_quat(s, t);
+                for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)q[m];
+            }
             if (vp_sgrid_insert(&s->g, (uint32_t)i, t->p, cur_r) != 0) {
                 r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
                 done = 1;

@@ -21,6 +21,7 @@ static int level_alloc(vp_sgrid_level *L, const double lo[3], const double hi[3]
         h *= 1.25;
     }
     L->h = h;
+    L->inv_h = 1.0 / h;
     size_t n = (size_t)(L->dims[0] * L->dims[1] * L->dims[2]);
     L->head = malloc(n * sizeof *L->head);
     if (!L->head) return -1;
@@ -65,13 +66,6 @@ void vp_sgrid_clear(vp_sgrid *g) {
     }
 }
 
-static int64_t cell_coord(const vp_sgrid_level *L, double x, double o, int k) {
-    double f = floor((x - o) / L->h);
-    if (!(f >= 0)) return 0; /* also NaN */
-    if (f >= (double)L->dims[k]) return L->dims[k] - 1;
-    return (int64_t)f;
-}
-
 int vp_sgrid_reserve(vp_sgrid *g, size_t n) {
     if (n <= g->capacity) return 0;
     uint32_t *nx = realloc(g->next, n * sizeof *nx);
@@ -97,7 +91,7 @@ int vp_sgrid_insert(vp_sgrid *g, uint32_t i, const double pos[3], double r) {
     while (l + 1 < g->nlevels && 2.0 * r > g->lev[l].h) l++;
     vp_sgrid_level *L = &g->lev[l];
     int64_t c[3];
-    for (int k = 0; k < 3; k++) c[k] = cell_coord(L, pos[k], g->origin[k], k);
+    for (int k = 0; k < 3; k++) c[k] = vp_sgrid_cell_coord(L, pos[k], g->origin[k], k);
     size_t idx = (size_t)((c[2] * L->dims[1] + c[1]) * L->dims[0] + c[0]);
     g->next[i] = L->head[idx];
     L->head[idx] = i;
@@ -111,36 +105,6 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r) {
     if (r > L->rmax) L->rmax = r;
 }
 
-/* Cells [a, b] of level L that a query of the box [lo, hi] with reach
- * reads; 0 when the level is empty. */
-static int level_range(const vp_sgrid *g, const vp_sgrid_level *L, const double lo[3],
-                       const double hi[3], double reach, int64_t a[3], int64_t b[3]) {
-    if (L->rmax <= 0) return 0;
-    double R = reach + L->rmax;
-    for (int k = 0; k < 3; k++) {
-        a[k] = cell_coord(L, lo[k] - R, g->origin[k], k);
-        b[k] = cell_coord(L, hi[k] + R, g->origin[k], k);
-    }
-    return 1;
-}
-
-int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
-                       vp_sgrid_visit fn, void *user) {
-    for (int l = 0; l < g->nlevels; l++) {
-        const vp_sgrid_level *L = &g->lev[l];
-        int64_t a[3], b[3];
-        if (!level_range(g, L, lo, hi, reach, a, b)) continue;
-        for (int64_t z = a[2]; z <= b[2]; z++)
-            for (int64_t y = a[1]; y <= b[1]; y++) {
-                const uint32_t *row = L->head + (size_t)((z * L->dims[1] + y) * L->dims[0]);
-                for (int64_t x = a[0]; x <= b[0]; x++)
-                    for (uint32_t j = row[x]; j != VP_SGRID_NONE; j = g->next[j])
-                        if (fn(user, j)) return 1;
-            }
-    }
-    return 0;
-}
-
 /* Issues the hints for every row of cells a query of [lo, hi] with reach
  * reads (positions NULL: the rows; else their first particles). It walks
  * the rows as vp_sgrid_query_box does; a shared row walker would put a
@@ -150,7 +114,7 @@ static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
         int64_t a[3], b[3];
-        if (!level_range(g, L, lo, hi, reach, a, b)) continue;
+        if (!vp_sgrid_level_range(g, L, lo, hi, reach, a, b)) continue;
         for (int64_t z = a[2]; z <= b[2]; z++)
             for (int64_t y = a[1]; y <= b[1]; y++) {
                 const uint32_t *row = L->head + (size_t)((z * L->dims[1] + y) * L->dims[0]);
@@ -184,8 +148,8 @@ int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach, vp_s
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
         int64_t a[3], b[3], c[3];
-        if (!level_range(g, L, p, p, reach, a, b)) continue;
-        for (int k = 0; k < 3; k++) c[k] = cell_coord(L, p[k], g->origin[k], k);
+        if (!vp_sgrid_level_range(g, L, p, p, reach, a, b)) continue;
+        for (int k = 0; k < 3; k++) c[k] = vp_sgrid_cell_coord(L, p[k], g->origin[k], k);
         size_t own = (size_t)((c[2] * L->dims[1] + c[1]) * L->dims[0] + c[0]);
         for (uint32_t j = L->head[own]; j != VP_SGRID_NONE; j = g->next[j])
             if (fn(user, j)) return 1;
@@ -200,11 +164,6 @@ int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach, vp_s
             }
     }
     return 0;
-}
-
-int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
-                   void *user) {
-    return vp_sgrid_query_box(g, p, p, reach, fn, user);
 }
 
 size_t vp_sgrid_bytes(const vp_sgrid *g) {

@@ -10,6 +10,7 @@
 #ifndef VDBPACK_CORE_SGRID_H
 #define VDBPACK_CORE_SGRID_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -18,6 +19,8 @@
 
 typedef struct vp_sgrid_level {
     double h;              /* cell size */
+    double inv_h;          /* 1 / h: cells are found by multiplying (monotone, and
+                              the same function for insertion and queries) */
     int64_t dims[3];
     uint32_t *head;        /* dims[0]*dims[1]*dims[2] first indices, or NONE */
     double rmax;           /* largest radius stored at this level */
@@ -55,8 +58,8 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r);
  * in the sense |p - c_j| < reach + r_j (a superset: the caller tests
  * exactly). Stops early and returns 1 when fn returns nonzero; else 0. */
 typedef int (*vp_sgrid_visit)(void *user, uint32_t j);
-int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
-                   void *user);
+static inline int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach,
+                                 vp_sgrid_visit fn, void *user);
 
 /* vp_sgrid_query visiting the particles of p's own cell (on each level)
  * first: a caller that stops at the first hit (an overlap) mostly finds it
@@ -67,8 +70,8 @@ int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach, vp_s
 /* The same for every particle j that may lie within `reach` + r_j of the
  * box [lo, hi] (per axis: a superset of the particles whose ball of radius
  * reach + r_j meets the box). */
-int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
-                       vp_sgrid_visit fn, void *user);
+static inline int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3],
+                                     double reach, vp_sgrid_visit fn, void *user);
 
 /* Memory hints for a later vp_sgrid_query_box(g, lo, hi, reach, ...)
  * (lo = hi = p for vp_sgrid_query): the first
@@ -84,4 +87,51 @@ void vp_sgrid_prefetch_items(const vp_sgrid *g, const double lo[3], const double
 
 /* Bytes the grid holds. */
 size_t vp_sgrid_bytes(const vp_sgrid *g);
+
+/* The queries are defined here, inline, so that a caller's visitor (a
+ * constant function) is inlined into the loop over the cells: they run
+ * once per dart and per split cell of the random packer, and a call per
+ * particle visited was a sixth of its instructions. */
+static inline int64_t vp_sgrid_cell_coord(const vp_sgrid_level *L, double x, double o, int k) {
+    double f = floor((x - o) * L->inv_h);
+    if (!(f >= 0)) return 0; /* also NaN */
+    if (f >= (double)L->dims[k]) return L->dims[k] - 1;
+    return (int64_t)f;
+}
+
+/* Cells [a, b] of level L that a query of the box [lo, hi] with reach
+ * reads; 0 when the level is empty. */
+static inline int vp_sgrid_level_range(const vp_sgrid *g, const vp_sgrid_level *L,
+                                       const double lo[3], const double hi[3], double reach,
+                                       int64_t a[3], int64_t b[3]) {
+    if (L->rmax <= 0) return 0;
+    double R = reach + L->rmax;
+    for (int k = 0; k < 3; k++) {
+        a[k] = vp_sgrid_cell_coord(L, lo[k] - R, g->origin[k], k);
+        b[k] = vp_sgrid_cell_coord(L, hi[k] + R, g->origin[k], k);
+    }
+    return 1;
+}
+
+static inline int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], const double hi[3],
+                                     double reach, vp_sgrid_visit fn, void *user) {
+    for (int l = 0; l < g->nlevels; l++) {
+        const vp_sgrid_level *L = &g->lev[l];
+        int64_t a[3], b[3];
+        if (!vp_sgrid_level_range(g, L, lo, hi, reach, a, b)) continue;
+        for (int64_t z = a[2]; z <= b[2]; z++)
+            for (int64_t y = a[1]; y <= b[1]; y++) {
+                const uint32_t *row = L->head + (size_t)((z * L->dims[1] + y) * L->dims[0]);
+                for (int64_t x = a[0]; x <= b[0]; x++)
+                    for (uint32_t j = row[x]; j != VP_SGRID_NONE; j = g->next[j])
+                        if (fn(user, j)) return 1;
+            }
+    }
+    return 0;
+}
+
+static inline int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach,
+                                 vp_sgrid_visit fn, void *user) {
+    return vp_sgrid_query_box(g, p, p, reach, fn, user);
+}
 #endif
