@@ -64,8 +64,8 @@ static inline int vp_sgrid_query(const vp_sgrid *g, const double p[3], double re
 /* vp_sgrid_query visiting the particles of p's own cell (on each level)
  * first: a caller that stops at the first hit (an overlap) mostly finds it
  * there. The same particles, in another order. */
-int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach, vp_sgrid_visit fn,
-                        void *user);
+static inline int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach,
+                                      vp_sgrid_visit fn, void *user);
 
 /* The same for every particle j that may lie within `reach` + r_j of the
  * box [lo, hi] (per axis: a superset of the particles whose ball of radius
@@ -93,10 +93,10 @@ size_t vp_sgrid_bytes(const vp_sgrid *g);
  * once per dart and per split cell of the random packer, and a call per
  * particle visited was a sixth of its instructions. */
 static inline int64_t vp_sgrid_cell_coord(const vp_sgrid_level *L, double x, double o, int k) {
-    double f = floor((x - o) * L->inv_h);
+    double f = (x - o) * L->inv_h;
     if (!(f >= 0)) return 0; /* also NaN */
     if (f >= (double)L->dims[k]) return L->dims[k] - 1;
-    return (int64_t)f;
+    return (int64_t)f; /* truncation is floor here: f >= 0 */
 }
 
 /* Cells [a, b] of level L that a query of the box [lo, hi] with reach
@@ -133,5 +133,28 @@ static inline int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], cons
 static inline int vp_sgrid_query(const vp_sgrid *g, const double p[3], double reach,
                                  vp_sgrid_visit fn, void *user) {
     return vp_sgrid_query_box(g, p, p, reach, fn, user);
+}
+
+static inline int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach,
+                                      vp_sgrid_visit fn, void *user) {
+    for (int l = 0; l < g->nlevels; l++) {
+        const vp_sgrid_level *L = &g->lev[l];
+        int64_t a[3], b[3], c[3];
+        if (!vp_sgrid_level_range(g, L, p, p, reach, a, b)) continue;
+        for (int k = 0; k < 3; k++) c[k] = vp_sgrid_cell_coord(L, p[k], g->origin[k], k);
+        size_t own = (size_t)((c[2] * L->dims[1] + c[1]) * L->dims[0] + c[0]);
+        for (uint32_t j = L->head[own]; j != VP_SGRID_NONE; j = g->next[j])
+            if (fn(user, j)) return 1;
+        for (int64_t z = a[2]; z <= b[2]; z++)
+            for (int64_t y = a[1]; y <= b[1]; y++) {
+                size_t row = (size_t)((z * L->dims[1] + y) * L->dims[0]);
+                for (int64_t x = a[0]; x <= b[0]; x++) {
+                    if (row + (size_t)x == own) continue;
+                    for (uint32_t j = L->head[row + (size_t)x]; j != VP_SGRID_NONE; j = g->next[j])
+                        if (fn(user, j)) return 1;
+                }
+            }
+    }
+    return 0;
 }
 #endif
