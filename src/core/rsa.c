@@ -647,7 +647,10 @@ static void split_chunk(void *user, size_t i) {
     if (hi > j->nparents) hi = j->nparents;
     const rsa *s = j->s;
     double a = cell_side(s, j->child_level), h = 0.5 * a;
-    int depth = LOOKAHEAD;
+    /* solids: their cells are dropped by inspheres, small against the
+     * cells, whose unions seldom cover a sub-cell that no single one does:
+     * the look-ahead cost more than it saved (docs/rsa.md) */
+    int depth = s->solid ? 0 : LOOKAHEAD;
     if (j->child_level + depth > s->max_level) depth = s->max_level - j->child_level;
     if (depth < 0) depth = 0;
     ball_list *b = malloc(sizeof *b);
