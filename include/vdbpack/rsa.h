@@ -25,7 +25,7 @@ typedef struct vp_rsa_pass {
 void vp_rsa_pass_init(vp_rsa_pass *p);
 
 typedef enum vp_orient_mode {
-    VP_ORIENT_RANDOM = 0, /* uniform random rotations (Shoemake), per particle */
+    VP_ORIENT_RANDOM = 0, /* uniform random rotations (Marsaglia), per particle */
     VP_ORIENT_FIXED       /* every particle in the shape's canonical orientation */
 } vp_orient_mode;
 
