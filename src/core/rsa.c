@@ -192,11 +192,14 @@ static int clr_visit(void *user, uint32_t j) {
 }
 
 /* Min over particles j in [from, upto) of |x - c_j| - r_j, exact when below
- * reach (else reach), stopping early once below stop. */
+ * reach (else reach), stopping early once below stop. The dart's own grid
+ * cell is read first: most darts fail, and mostly on a sphere there
+ * (8.87 G against 8.98 G instructions for the 1e5 count case, the same
+ * packing: below stop the verdict does not depend on the order). */
 static double clearance(const rsa *s, const double x[3], double reach, double stop, size_t from,
                         size_t upto) {
     clr_query q = {s->p, s->uni_r, x, reach, stop, from, upto, SIZE_MAX};
-    vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
+    vp_sgrid_query_near(&s->g, x, reach, clr_visit, &q);
     return q.best;
 }
 
