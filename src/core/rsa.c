@@ -285,23 +285,16 @@ static int cube_quick_other(solid_query *w, const double d[3], double rj, uint32
                                s->coord_eps);
 }
 
-static int cube_pair_quick(solid_query *w, const double d[3], double rj, uint32_t j,
-                           double qj[4]) {
-    int v = cube_quick_cand(w, d, rj);
-    return v >= 0 ? v : cube_quick_other(w, d, rj, j, qj);
-}
-
 /* The exact test of the candidate against particle j, after the sphere
- * tests (and, for cubes, the candidate's own centre test: skip_cand)
- * left it undecided. 1 overlap. */
-static int solid_exact(solid_query *w, uint32_t j, int skip_cand) {
+ * tests (and, for cubes, cube_quick_cand) left it undecided. 1 overlap. */
+static int solid_exact(solid_query *w, uint32_t j) {
     const rsa *s = w->s;
     const double *c = s->p->positions + 3 * (size_t)j;
     double rj = s->p->radii[j], d[3];
     for (int k = 0; k < 3; k++) d[k] = w->x[k] - c[k];
     double qj[4];
     if (s->cube) {
-        int v = skip_cand ? cube_quick_other(w, d, rj, j, qj) : cube_pair_quick(w, d, rj, j, qj);
+        int v = cube_quick_other(w, d, rj, j, qj);
         if (v >= 0) return v;
     } else {
         vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
@@ -340,23 +333,21 @@ static int solid_visit(void *user, uint32_t j) {
                 return 0;
         return 1;
     }
-    int skip_cand = 0;
     if (s->cube) {
         int v = cube_quick_cand(w, d, rj);
         if (v >= 0) return v;
-        skip_cand = 1;
     }
     if (w->ndefer < DEFER_MAX) {
         w->defer[w->ndefer++] = j;
         return 0;
     }
-    return solid_exact(w, j, skip_cand);
+    return solid_exact(w, j);
 }
 
 /* The deferred exact tests: 1 when one of them overlaps. */
 static int solid_deferred(solid_query *w) {
     for (size_t t = 0; t < w->ndefer; t++)
-        if (solid_exact(w, w->defer[t], w->s->cube)) return 1;
+        if (solid_exact(w, w->defer[t])) return 1;
     return 0;
 }
 
