@@ -865,7 +865,6 @@ static void make_darts(void *user, size_t ci) {
             /* one radius: the exact tests against the particles placed
              * before the batch need not wait for the serial loop */
             if (s->pretest) t->clr = dart_solid_free(s, t, s->rmin);
-            else dart_quat(s, t);
             continue;
         }
         if (t->d <= thr_ok(s, s->rmin) && s->n0) vp_sgrid_prefetch_cells(&s->g, t->p, t->p, s->rmax);
@@ -1088,7 +1087,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                        (s->p->count == s->n0 ||
                         solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
             } else if (s->solid) {
-                good = solid_free(s, t->p, t->d, t->q, cur_r, SIZE_MAX);
+                good = dart_solid_free(s, t, cur_r);
             } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
                        s->p->count > s->n0) { /* spheres placed in this batch */
                 size_t nnew = s->p->count - s->n0;

@@ -37,22 +37,27 @@ void vp_subproc_watch_start(vp_subproc_watch *w, pid_t pid, double timeout) {
     w->deadline = w->start + timeout;
 }
 
+/* The fields of /proc/<path> after the command name (which may hold
+ * spaces), in buf; NULL when it cannot be read. */
+static const char *proc_stat_fields(const char *path, char *buf, size_t size) {
+    FILE *f = fopen(path, "r");
+    if (!f) return NULL;
+    size_t n = fread(buf, 1, size - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    const char *p = strrchr(buf, ')');
+    return p && p[1] == ' ' ? p + 2 : NULL;
+}
+
 /* 1 when some thread of the child is runnable (state R) and the child has
  * used less than `cpu` seconds of CPU time; 0 otherwise or when /proc
  * cannot tell (then the deadline stands). */
 static int child_starved(pid_t pid, double cpu) {
-    char path[64];
+    char path[64], buf[1024];
     snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
-    FILE *f = fopen(path, "r");
-    if (!f) return 0;
-    char buf[1024];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    const char *p = strrchr(buf, ')'); /* the command name may hold spaces */
+    const char *p = proc_stat_fields(path, buf, sizeof buf);
     unsigned long long ut = 0, st = 0;
-    if (!p || sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &ut,
-                     &st) != 2)
+    if (!p || sscanf(p, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &ut, &st) != 2)
         return 0;
     long hz = sysconf(_SC_CLK_TCK);
     if (hz <= 0 || (double)(ut + st) / (double)hz >= cpu) return 0;
@@ -64,13 +69,8 @@ static int child_starved(pid_t pid, double cpu) {
         if (e->d_name[0] == '.') continue;
         char tp[128];
         snprintf(tp, sizeof tp, "/proc/%d/task/%.32s/stat", (int)pid, e->d_name);
-        FILE *t = fopen(tp, "r");
-        if (!t) continue;
-        n = fread(buf, 1, sizeof buf - 1, t);
-        fclose(t);
-        buf[n] = '\0';
-        p = strrchr(buf, ')');
-        runnable = p && p[1] == ' ' && p[2] == 'R';
+        p = proc_stat_fields(tp, buf, sizeof buf);
+        runnable = p && p[0] == 'R';
     }
     closedir(d);
     return runnable;
