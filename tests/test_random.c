@@ -3,7 +3,8 @@
  * particle against the analytic wall), never by the checker alone:
  * size distributions (sample moments), RSA (zero overlaps, inside, groups,
  * count and retry semantics, grow makes contacts, maximal leaves no room
- * on a fine probe grid, determinism across thread counts, a refinement
+ * on a fine probe grid, determinism across thread counts, particles in
+ * grid order after refinements, a refinement
  * given up over the cell budget), relaxation (overlap bound, inside,
  * radius scale) and vp_check_particles (known
  * overlaps, outsiders and contacts, spheres and cubes). */
@@ -346,6 +347,65 @@ static void test_rsa_cell_budget(void) {
     vp_container_destroy(c);
 }
 
+/* Mean distance between particles i and i + lag of [first, last). */
+static double mean_step(const vp_particles *p, size_t first, size_t last, size_t lag) {
+    double sum = 0.0;
+    for (size_t i = first; i + lag < last; i++) {
+        const double *a = p->positions + 3 * i, *b = p->positions + 3 * (i + lag);
+        sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                    (a[2] - b[2]) * (a[2] - b[2]));
+    }
+    return sum / (double)(last - first - lag);
+}
+
+/* Passes that refine their cells renumber their particles in the order of
+ * the neighbour grid's cells (positions, radii and, for solids,
+ * orientations move together; tests/test_rsa_solids checks cubes): a
+ * maximal pass and a size distribution after it, brute-force checked,
+ * each pass's particles still together, consecutive particles close in
+ * space. A pass that grows keeps placement order (random in space). */
+static void test_rsa_grid_order(void) {
+    vp_container *c = unit_box();
+    vp_rsa_pass ps[2];
+    vp_rsa_pass_init(&ps[0]);
+    vp_rsa_pass_init(&ps[1]);
+    ps[0].maximal = 1;
+    vp_size_dist_constant(&ps[0].radius, 0.03);
+    ps[1].count = 8000;
+    ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.006:0.01", &ps[1].radius), VP_OK);
+    vp_rsa_params rp;
+    vp_rsa_params_init(&rp);
+    rp.passes = ps;
+    rp.npasses = 2;
+    rp.seed = 8;
+    for (int grow = 0; grow < 2; grow++) {
+        ps[0].grow = grow;
+        vp_particles *p = NULL;
+        vp_rsa_report rep;
+        ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+        size_t n1 = rep.passes[0].placed;
+        ASSERT_EQ_INT(rep.passes[1].placed, 8000);
+        ASSERT_EQ_INT(p->count, n1 + 8000);
+        ASSERT_LE(worst_overlap(p), 0.0);
+        ASSERT_LE(worst_wall_box(p, 0.5), 0.0);
+        for (size_t i = 0; i < p->count; i++) {
+            ASSERT_EQ_INT(p->groups[i], i < n1 ? 0 : 1);
+            if (i >= n1) ASSERT_TRUE(p->radii[i] >= 0.006f && p->radii[i] <= 0.01f);
+            else if (!grow) ASSERT_TRUE(p->radii[i] == (float)0.03);
+        }
+        /* consecutive particles against particles half a pass apart */
+        double r0 = mean_step(p, 0, n1, 1) / mean_step(p, 0, n1, n1 / 2),
+               r1 = mean_step(p, n1, p->count, 1) / mean_step(p, n1, p->count, 4000);
+        fprintf(stderr, "   grow %d: %zu + 8000 spheres; step ratio %.3f, %.3f\n", grow, n1,
+                r0, r1);
+        if (grow) ASSERT_GE(r0, 0.8);
+        else ASSERT_LE(r0, 0.3);
+        ASSERT_LE(r1, 0.6); /* the spheres placed after its last split follow in placement order */
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+}
+
 static void test_rsa_deterministic(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
@@ -510,6 +570,7 @@ int main(void) {
     RUN_TEST(test_rsa_maximal_leaves_no_room);
     RUN_TEST(test_rsa_count_near_saturation);
     RUN_TEST(test_rsa_deterministic);
+    RUN_TEST(test_rsa_grid_order);
     RUN_TEST(test_rsa_cell_budget);
     RUN_TEST(test_relax);
     RUN_TEST(test_check_known_cases);

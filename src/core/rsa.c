@@ -50,12 +50,17 @@ void vp_rsa_params_init(vp_rsa_params *p) {
     p->fit = VP_FIT_INSIDE;
 }
 
-typedef struct cell { uint32_t x, y, z; } cell;
+/* mask: bit o (o = x + 2y + 4z, each 0 or 1) is clear when the cell's
+ * sub-cell o, one level finer, was proven to hold no admissible centre
+ * when the cell was made (what stays true: placed spheres stay). Darts
+ * landing there fail at once, without a neighbour query. */
+typedef struct cell { uint32_t x, y, z, mask; } cell;
 
 /* Active cells are stored packed: 4 bytes (10 bits per coordinate and the
  * valid flag in the top bit) at the levels whose coordinates fit in 10
- * bits, 8 bytes (21 bits each) where they fit in 21, and as a plain `cell`
- * (12 bytes) at finer levels, where few cells are left. Cells are the
+ * bits, 8 bytes (21 bits each) where they fit in 21, and as the three
+ * coordinates (12 bytes) at finer levels, where few cells are left; then
+ * the mask byte. Cells are the
  * largest structure of a pass (several per particle at levels 1 to 3), so
  * their size is most of the packer's memory. */
 #define PACK_BITS 21
@@ -66,7 +71,8 @@ typedef struct cell { uint32_t x, y, z; } cell;
 typedef struct dart {
     double p[3];
     double q[4];  /* orientation (solids), as stored: float, renormalised */
-    double d;     /* container distance (or -HUGE_VAL: cell known valid) */
+    double d;     /* container distance (or -HUGE_VAL: cell known valid;
+                     HUGE_VAL: in a sub-cell proven empty, the dart fails) */
     double clr;   /* spheres: min over earlier particles of |p - c_j| - r_j (capped);
                      solids of a one-radius pass: 1 when the solid fits the wall and
                      overlaps no earlier particle, else 0 */
@@ -398,49 +404,113 @@ static int solid_free(const rsa *s, const double x[3], double d, const double q[
 
 /* solid_free for a dart, drawing its orientation only when a test needs it. */
 static int dart_solid_free(const rsa *s, dart *t, double r) {
+    if (t->d == HUGE_VAL) return 0; /* in a sub-cell proven empty */
     if (!(t->d <= thr_ok(s, r)) && !solid_fits_wall(s, t->p, t->d, dart_quat(s, t), r)) return 0;
     return solid_clear_from(s, t->p, t->q, t, r, SIZE_MAX, 0);
+}
+
+/* --- particle order ------------------------------------------------------------ */
+
+/* Renumbers particles [first, count) in the order of the neighbour grid's
+ * cells (row by row), so that the particles a query reads lie together in
+ * memory instead of in placement order, scattered: the splits gather the
+ * balls near every cell, one cache miss per particle otherwise. The new
+ * numbers are kept in the grid's links while it is rebuilt (no memory is
+ * taken). Nothing in a pass depends on the numbering but its output order. */
+static void renumber(rsa *s, size_t first) {
+    vp_particles *p = s->p;
+    vp_sgrid *g = &s->g;
+    size_t n = p->count;
+    uint32_t k = (uint32_t)first, *to = g->next; /* to[old] = new, once the walk has read it */
+    for (int l = 0; l < g->nlevels; l++) {
+        const vp_sgrid_level *L = &g->lev[l];
+        size_t ncell = (size_t)(L->dims[0] * L->dims[1] * L->dims[2]);
+        for (size_t c = 0; c < ncell; c++)
+            for (uint32_t j = L->head[c], nx; j != VP_SGRID_NONE; j = nx) {
+                nx = g->next[j];
+                to[j] = j < first ? j : k++;
+            }
+    }
+    /* move each particle to its place, cycle by cycle; to[i] == i: done
+     * (groups: one value over the pass) */
+    for (size_t i = first; i < n; i++) {
+        if (to[i] == i) continue;
+        double tp[3];
+        float tr = p->radii[i], to4[4] = {0, 0, 0, 0};
+        memcpy(tp, p->positions + 3 * i, sizeof tp);
+        if (p->has_orient) memcpy(to4, p->orients + 4 * i, sizeof to4);
+        for (uint32_t d = to[i]; d != i;) { /* put the held particle at d, hold d's */
+            double xp[3];
+            float xr = p->radii[d], xo[4];
+            memcpy(xp, p->positions + 3 * (size_t)d, sizeof xp);
+            memcpy(p->positions + 3 * (size_t)d, tp, sizeof tp);
+            memcpy(tp, xp, sizeof tp);
+            p->radii[d] = tr;
+            tr = xr;
+            if (p->has_orient) {
+                memcpy(xo, p->orients + 4 * (size_t)d, sizeof xo);
+                memcpy(p->orients + 4 * (size_t)d, to4, sizeof to4);
+                memcpy(to4, xo, sizeof to4);
+            }
+            uint32_t nd = to[d];
+            to[d] = d;
+            d = nd;
+        }
+        memcpy(p->positions + 3 * i, tp, sizeof tp);
+        p->radii[i] = tr;
+        if (p->has_orient) memcpy(p->orients + 4 * i, to4, sizeof to4);
+        to[i] = (uint32_t)i;
+    }
+    vp_sgrid_clear(g);
+    for (size_t i = 0; i < n; i++) /* cannot fail: the links hold n already */
+        vp_sgrid_insert(g, (uint32_t)i, p->positions + 3 * i, p->radii[i]);
 }
 
 /* --- active cells ------------------------------------------------------------- */
 
 static size_t cell_bytes(const rsa *s, int level) {
     int b = s->coord_bits + level; /* bits of a coordinate at this level */
-    return b <= PACK4_BITS ? 4 : b <= PACK_BITS ? 8 : 12;
+    return (b <= PACK4_BITS ? 4 : b <= PACK_BITS ? 8 : 12) + 1; /* + the mask */
 }
 
 static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
     cell c;
+    const unsigned char *e = buf + size * i;
+    c.mask = e[size - 1];
+    size--;
     if (size == 4) {
         uint32_t k;
-        memcpy(&k, buf + 4 * i, 4);
+        memcpy(&k, e, 4);
         c.x = k & PACK4_MASK;
         c.y = (k >> PACK4_BITS) & PACK4_MASK;
         c.z = ((k >> (2 * PACK4_BITS)) & PACK4_MASK) | (k & VALID_BIT);
     } else if (size == 8) {
         uint64_t k;
-        memcpy(&k, buf + 8 * i, 8);
+        memcpy(&k, e, 8);
         c.x = (uint32_t)k & PACK_MASK;
         c.y = (uint32_t)(k >> PACK_BITS) & PACK_MASK;
         c.z = ((uint32_t)(k >> (2 * PACK_BITS)) & PACK_MASK) | ((k >> 63) ? VALID_BIT : 0u);
     } else {
-        memcpy(&c, buf + 12 * i, 12);
+        memcpy(&c, e, 12);
     }
     return c;
 }
 
 static void cell_store(unsigned char *buf, size_t size, size_t i, cell c) {
+    unsigned char *e = buf + size * i;
+    e[size - 1] = (unsigned char)c.mask;
+    size--;
     if (size == 4) {
         uint32_t k = c.x | c.y << PACK4_BITS | (c.z & ~VALID_BIT) << (2 * PACK4_BITS) |
                      (c.z & VALID_BIT);
-        memcpy(buf + 4 * i, &k, 4);
+        memcpy(e, &k, 4);
     } else if (size == 8) {
         uint64_t k = (uint64_t)c.x | (uint64_t)c.y << PACK_BITS |
                      (uint64_t)(c.z & ~VALID_BIT) << (2 * PACK_BITS) |
                      (uint64_t)((c.z & VALID_BIT) != 0) << 63;
-        memcpy(buf + 8 * i, &k, 8);
+        memcpy(e, &k, 8);
     } else {
-        memcpy(buf + 12 * i, &c, 12);
+        memcpy(e, &c, 12);
     }
 }
 
@@ -572,23 +642,46 @@ static int gather_visit(void *user, uint32_t j) {
 }
 
 /* 1 if one ball of the list holds the whole box (centre m, half side h).
- * *hint: the ball that held the last box, tried first (neighbouring
- * sub-boxes are mostly held by the same ball); updated. */
-static int ball_holds(const ball_list *b, const double m[3], double h, size_t *hint) {
+ * The ball that does is moved to the front: neighbouring boxes are mostly
+ * held by the same ball, tried first next time. */
+static int ball_holds(ball_list *b, const double m[3], double h) {
     size_t n = b->n;
-    for (size_t t = 0; t < n; t++) {
-        size_t i = t == 0 ? *hint : (t <= *hint ? t - 1 : t);
+    for (size_t i = 0; i < n; i++) {
         double f = 0.0;
         for (int k = 0; k < 3; k++) {
             double u = fabs(m[k] - b->c[i][k]) + h;
             f += u * u;
         }
         if (f < b->e2[i]) {
-            *hint = i;
+            if (i) {
+                double t[3], e = b->e2[i];
+                memcpy(t, b->c[i], sizeof t);
+                memcpy(b->c[i], b->c[0], sizeof t);
+                memcpy(b->c[0], t, sizeof t);
+                b->e2[i] = b->e2[0];
+                b->e2[0] = e;
+            }
             return 1;
         }
     }
     return 0;
+}
+
+/* Bit o set when the list's front ball holds the sub-box o of the box of
+ * centre m (centre m[k] - q or + q as bit k of o is 0 or 1, half side q):
+ * the eight tests share their per-axis terms. */
+static unsigned front_holds_subs(const ball_list *b, const double m[3], double q) {
+    if (!b->n) return 0;
+    double u[3][2];
+    for (int k = 0; k < 3; k++) {
+        double lo = fabs(m[k] - q - b->c[0][k]) + q, hi = fabs(m[k] + q - b->c[0][k]) + q;
+        u[k][0] = lo * lo;
+        u[k][1] = hi * hi;
+    }
+    unsigned bits = 0;
+    for (int o = 0; o < 8; o++)
+        if (u[0][o & 1] + u[1][(o >> 1) & 1] + u[2][o >> 2] < b->e2[0]) bits |= 1u << o;
+    return bits;
 }
 
 /* Container test of a box by its centre and half side, as classify(). */
@@ -601,12 +694,14 @@ static int classify_box(const rsa *s, const double m[3], double half) {
 
 /* 1 if the box is proven to hold no admissible centre, looking `depth`
  * levels of sub-cells deep. valid: the box passes the container test. */
-static int box_excluded(const rsa *s, const ball_list *b, const double m[3], double h, int valid,
-                        int depth, size_t *hint) {
-    if (ball_holds(b, m, h, hint)) return 1;
+static int box_excluded(const rsa *s, ball_list *b, const double m[3], double h, int valid,
+                        int depth) {
+    if (ball_holds(b, m, h)) return 1;
     if (depth == 0) return 0;
     double q = 0.5 * h;
+    unsigned held = front_holds_subs(b, m, q); /* settled in one go */
     for (int o = 0; o < 8; o++) {
+        if (held >> o & 1) continue;
         double c[3] = {m[0] + ((o & 1) ? q : -q), m[1] + ((o & 2) ? q : -q),
                        m[2] + ((o & 4) ? q : -q)};
         int v = valid;
@@ -615,7 +710,7 @@ static int box_excluded(const rsa *s, const ball_list *b, const double m[3], dou
             if (!k) continue;
             v = k == 2;
         }
-        if (!box_excluded(s, b, c, q, v, depth - 1, hint)) return 0;
+        if (!box_excluded(s, b, c, q, v, depth - 1)) return 0;
     }
     return 1;
 }
@@ -628,6 +723,7 @@ static void split_chunk(void *user, size_t i) {
         if (hi > rows) hi = rows;
         for (size_t r = lo; r < hi; r++) {
             cell c;
+            c.mask = 0xFF; /* sub-cells not tested: all may hold a centre */
             c.y = (uint32_t)(r % (size_t)j->dims[1]);
             c.z = (uint32_t)(r / (size_t)j->dims[1]);
             for (int64_t x = 0; x < j->dims[0]; x++) {
@@ -664,7 +760,6 @@ static void split_chunk(void *user, size_t i) {
         double pm[3];
         cell_center(s, &p, j->child_level - 1, pm);
         b->n = 0;
-        size_t hint = 0;
         b->m = pm;
         b->half = a;
         if (s->p->count) { /* balls (radius rin (rmin + r_j) <= rmin + r_j) meeting the parent */
@@ -672,7 +767,8 @@ static void split_chunk(void *user, size_t i) {
             vp_sgrid_query_box(&s->g, blo, bhi, s->rmin, gather_visit, b);
         }
         for (int o = 0; o < 8; o++) {
-            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1)};
+            if (!(p.mask >> o & 1)) continue; /* proven empty when p was made */
+            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1), 0xFF};
             double m[3];
             cell_center(s, &c, j->child_level, m);
             int v = pvalid;
@@ -681,7 +777,33 @@ static void split_chunk(void *user, size_t i) {
                 if (!kk) continue;
                 v = kk == 2;
             }
-            if (box_excluded(s, b, m, h, v, depth, &hint)) continue;
+            /* box_excluded(m, h, depth), noting the sub-cells proven empty
+             * in the mask: the look-ahead, up to the first sub-cell that
+             * may hold a centre (which keeps the child), and one ball test
+             * for each sub-cell after it */
+            if (ball_holds(b, m, h)) continue;
+            if (depth > 0) {
+                double qq = 0.5 * h;
+                int live = 0;
+                for (int o2 = 0; o2 < 8; o2++) {
+                    double c2[3] = {m[0] + ((o2 & 1) ? qq : -qq), m[1] + ((o2 & 2) ? qq : -qq),
+                                    m[2] + ((o2 & 4) ? qq : -qq)};
+                    int v2 = v;
+                    if (!v2) {
+                        int k2 = classify_box(s, c2, qq);
+                        v2 = k2 == 2;
+                        if (!k2) {
+                            c.mask &= ~(1u << o2);
+                            continue;
+                        }
+                    }
+                    if (live ? ball_holds(b, c2, qq) : box_excluded(s, b, c2, qq, v2, depth - 1))
+                        c.mask &= ~(1u << o2);
+                    else
+                        live = 1;
+                }
+                if (!live) continue;
+            }
             if (v) c.z |= VALID_BIT;
             if (push_cell(j, i, c)) j->failed = 1;
         }
@@ -699,14 +821,15 @@ static void split_chunk(void *user, size_t i) {
  * parents not yet split stay, and each split parent that kept a child is
  * rebuilt from it (children of one parent are consecutive). A parent all
  * of whose children were dropped holds no admissible centre, so leaving it
- * out keeps the law. Its valid flag is recomputed (set only when proven). */
+ * out keeps the law. Its valid flag is recomputed (set only when proven),
+ * and its mask has every bit set (nothing proven: the rare path). */
 static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, size_t osize) {
     int level = s->level;
     size_t n = np;
     uint32_t lx = UINT32_MAX, ly = 0, lz = 0;
     for (size_t i = 0; i < nout; i++) {
         cell c = cell_load(out, osize, i);
-        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1};
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1, 0};
         if (p.x == lx && p.y == ly && p.z == lz) continue;
         lx = p.x, ly = p.y, lz = p.z;
         n++;
@@ -718,7 +841,7 @@ static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, siz
     n = np;
     for (size_t i = 0; i < nout; i++) {
         cell c = cell_load(out, osize, i);
-        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1};
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1, 0xFF};
         if (p.x == lx && p.y == ly && p.z == lz) continue;
         lx = p.x, ly = p.y, lz = p.z;
         if (classify(s, &p, level) == 2) p.z |= VALID_BIT;
@@ -855,9 +978,18 @@ static void make_darts(void *user, size_t ci) {
     for (size_t k = lo; k < hi; k++) {
         dart *t = &s->darts[k];
         const cell c = cell_load(s->cells, s->csize, t->cell);
-        t->p[0] = s->origin[0] + ((double)c.x + vp_rng_uniform(&t->st)) * a;
-        t->p[1] = s->origin[1] + ((double)c.y + vp_rng_uniform(&t->st)) * a;
-        t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + vp_rng_uniform(&t->st)) * a;
+        double u[3];
+        for (int m = 0; m < 3; m++) u[m] = vp_rng_uniform(&t->st);
+        t->p[0] = s->origin[0] + ((double)c.x + u[0]) * a;
+        t->p[1] = s->origin[1] + ((double)c.y + u[1]) * a;
+        t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + u[2]) * a;
+        unsigned sub = (u[0] >= 0.5) | (u[1] >= 0.5) << 1 | (u[2] >= 0.5) << 2;
+        if (!(c.mask >> sub & 1)) { /* a sub-cell proven empty: fails */
+            t->d = HUGE_VAL;
+            t->clr = 0.0;
+            t->qready = 0;
+            continue;
+        }
         t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
         if (s->solid) { /* the exact tests depend on the radius: on accepting */
@@ -1044,6 +1176,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     double cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
     uint64_t dart_index = 0;
     size_t level_darts = 0; /* darts thrown at this level */
+    size_t renumbered = first;
     rep->stop = VP_RSA_STOP_MAXIMAL;
     uint32_t *hits = NULL; /* cells that received a sphere in this batch */
     size_t hit_cap = 0, nhits = 0;
@@ -1184,6 +1317,14 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                  * is left cannot take a centre that differs from a placed one */
                 rep->stop = VP_RSA_STOP_MAXIMAL;
                 break;
+            }
+            /* the particles in grid order before the split reads them all,
+             * once a tenth of the pass's particles are new since the last
+             * time; a pass that grows keeps placement order, its order
+             * of growth */
+            if (!ps->grow && 10 * (s->p->count - renumbered) >= s->p->count - first) {
+                renumbered = s->p->count;
+                renumber(s, first);
             }
             r = split_cells(s, 0, NULL);
             if (r != VP_OK) break;
