@@ -436,21 +436,21 @@ static void renumber(rsa *s, size_t first) {
     for (size_t i = first; i < n; i++) {
         if (to[i] == i) continue;
         double tp[3];
-        float tr = p->radii[i], to4[4] = {0, 0, 0, 0};
+        float tr = p->radii[i], tq[4] = {0, 0, 0, 0};
         memcpy(tp, p->positions + 3 * i, sizeof tp);
-        if (p->has_orient) memcpy(to4, p->orients + 4 * i, sizeof to4);
+        if (p->has_orient) memcpy(tq, p->orients + 4 * i, sizeof tq);
         for (uint32_t d = to[i]; d != i;) { /* put the held particle at d, hold d's */
             double xp[3];
-            float xr = p->radii[d], xo[4];
+            float xr = p->radii[d], xq[4];
             memcpy(xp, p->positions + 3 * (size_t)d, sizeof xp);
             memcpy(p->positions + 3 * (size_t)d, tp, sizeof tp);
             memcpy(tp, xp, sizeof tp);
             p->radii[d] = tr;
             tr = xr;
             if (p->has_orient) {
-                memcpy(xo, p->orients + 4 * (size_t)d, sizeof xo);
-                memcpy(p->orients + 4 * (size_t)d, to4, sizeof to4);
-                memcpy(to4, xo, sizeof to4);
+                memcpy(xq, p->orients + 4 * (size_t)d, sizeof xq);
+                memcpy(p->orients + 4 * (size_t)d, tq, sizeof tq);
+                memcpy(tq, xq, sizeof tq);
             }
             uint32_t nd = to[d];
             to[d] = d;
@@ -458,7 +458,7 @@ static void renumber(rsa *s, size_t first) {
         }
         memcpy(p->positions + 3 * i, tp, sizeof tp);
         p->radii[i] = tr;
-        if (p->has_orient) memcpy(p->orients + 4 * i, to4, sizeof to4);
+        if (p->has_orient) memcpy(p->orients + 4 * i, tq, sizeof tq);
         to[i] = (uint32_t)i;
     }
     vp_sgrid_clear(g);
