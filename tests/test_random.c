@@ -70,6 +70,25 @@ static void one_pass(vp_rsa_pass *ps, vp_rsa_params *rp, double r, size_t count,
     rp->seed = seed;
 }
 
+/* Two passes: n0 spheres of radius law r0 (0: maximal), grown or not,
+ * then n1 of law r1 (0: maximal). */
+static void two_passes(vp_rsa_pass ps[2], vp_rsa_params *rp, const char *r0, size_t n0, int grow0,
+                       const char *r1, size_t n1, uint64_t seed) {
+    const char *law[2] = {r0, r1};
+    size_t n[2] = {n0, n1};
+    for (int k = 0; k < 2; k++) {
+        vp_rsa_pass_init(&ps[k]);
+        ps[k].count = n[k];
+        ps[k].maximal = n[k] == 0;
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, law[k], &ps[k].radius), VP_OK);
+    }
+    ps[0].grow = grow0;
+    vp_rsa_params_init(rp);
+    rp->passes = ps;
+    rp->npasses = 2;
+    rp->seed = seed;
+}
+
 /* vp_rng_quat is uniform on the 3-sphere: unit length, and the moments of
  * the uniform law, E[q_i^2] = 1/4, E[q_i^4] = 1/8, E[q_i^2 q_j^2] = 1/24
  * and E[q_i] = 0, within 5 standard errors over 400 000 draws. */
@@ -145,18 +164,8 @@ static void test_size_dist(void) {
 static void test_rsa_binary_grow(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
-    vp_rsa_pass_init(&ps[0]);
-    vp_rsa_pass_init(&ps[1]);
-    ps[0].count = 40;
-    vp_size_dist_constant(&ps[0].radius, 0.07);
-    ps[0].grow = 1;
-    ps[1].count = 1200;
-    ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.012:0.02", &ps[1].radius), VP_OK);
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = ps;
-    rp.npasses = 2;
-    rp.seed = 5;
+    two_passes(ps, &rp, "0.07", 40, 1, "uniform:0.012:0.02", 1200, 5);
     vp_particles *p = NULL;
     vp_rsa_report rep;
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
@@ -367,17 +376,8 @@ static double mean_step(const vp_particles *p, size_t first, size_t last, size_t
 static void test_rsa_grid_order(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
-    vp_rsa_pass_init(&ps[0]);
-    vp_rsa_pass_init(&ps[1]);
-    ps[0].maximal = 1;
-    vp_size_dist_constant(&ps[0].radius, 0.03);
-    ps[1].count = 8000;
-    ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.006:0.01", &ps[1].radius), VP_OK);
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = ps;
-    rp.npasses = 2;
-    rp.seed = 8;
+    two_passes(ps, &rp, "0.03", 0, 0, "uniform:0.006:0.01", 8000, 8);
     for (int grow = 0; grow < 2; grow++) {
         ps[0].grow = grow;
         vp_particles *p = NULL;
@@ -409,18 +409,8 @@ static void test_rsa_grid_order(void) {
 static void test_rsa_deterministic(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
-    vp_rsa_pass_init(&ps[0]);
-    vp_rsa_pass_init(&ps[1]);
-    ps[0].count = 100;
-    vp_size_dist_constant(&ps[0].radius, 0.05);
-    ps[0].grow = 1;
-    ps[1].maximal = 1;
-    vp_size_dist_constant(&ps[1].radius, 0.02);
     vp_rsa_params rp;
-    vp_rsa_params_init(&rp);
-    rp.passes = ps;
-    rp.npasses = 2;
-    rp.seed = 3;
+    two_passes(ps, &rp, "0.05", 100, 1, "0.02", 0, 3);
     vp_particles *a = NULL, *b = NULL;
     vp_context_set_threads(ctx, 1);
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, NULL), VP_OK);
