@@ -692,27 +692,48 @@ static int classify_box(const rsa *s, const double m[3], double half) {
     return d + reach <= thr_ok(s, s->rmax) ? 2 : 1;
 }
 
-/* 1 if the box is proven to hold no admissible centre, looking `depth`
- * levels of sub-cells deep. valid: the box passes the container test. */
 static int box_excluded(const rsa *s, ball_list *b, const double m[3], double h, int valid,
-                        int depth) {
-    if (ball_holds(b, m, h)) return 1;
-    if (depth == 0) return 0;
+                        int depth);
+
+/* The sub-boxes (centre m +- q per axis as bit k of o says, half side
+ * q = h / 2) of the box (m, h) not proven to hold no admissible centre,
+ * as bits o. They are looked into `depth` levels deep up to the first
+ * such one; after it, with `all`, each gets one ball test (a mask for a
+ * cell being made), and without, the result is returned at once (nonzero:
+ * enough for box_excluded). valid: the box passes the container test. */
+static unsigned live_subs(const rsa *s, ball_list *b, const double m[3], double h, int valid,
+                          int depth, int all) {
     double q = 0.5 * h;
-    unsigned held = front_holds_subs(b, m, q); /* settled in one go */
+    unsigned live = 0xFFu & ~front_holds_subs(b, m, q), found = 0; /* settled in one go */
     for (int o = 0; o < 8; o++) {
-        if (held >> o & 1) continue;
+        if (!(live >> o & 1)) continue;
         double c[3] = {m[0] + ((o & 1) ? q : -q), m[1] + ((o & 2) ? q : -q),
                        m[2] + ((o & 4) ? q : -q)};
         int v = valid;
         if (!v) {
             int k = classify_box(s, c, q);
-            if (!k) continue;
+            if (!k) {
+                live &= ~(1u << o);
+                continue;
+            }
             v = k == 2;
         }
-        if (!box_excluded(s, b, c, q, v, depth - 1)) return 0;
+        if (found ? ball_holds(b, c, q) : box_excluded(s, b, c, q, v, depth)) {
+            live &= ~(1u << o);
+        } else if (!found) {
+            found = 1;
+            if (!all) return live;
+        }
     }
-    return 1;
+    return live;
+}
+
+/* 1 if the box is proven to hold no admissible centre, looking `depth`
+ * levels of sub-cells deep. valid: the box passes the container test. */
+static int box_excluded(const rsa *s, ball_list *b, const double m[3], double h, int valid,
+                        int depth) {
+    if (ball_holds(b, m, h)) return 1;
+    return depth > 0 && !live_subs(s, b, m, h, valid, depth - 1, 0);
 }
 
 static void split_chunk(void *user, size_t i) {
@@ -777,33 +798,12 @@ static void split_chunk(void *user, size_t i) {
                 if (!kk) continue;
                 v = kk == 2;
             }
-            /* box_excluded(m, h, depth), noting the sub-cells proven empty
-             * in the mask: the look-ahead, up to the first sub-cell that
-             * may hold a centre (which keeps the child), and one ball test
-             * for each sub-cell after it */
+            /* box_excluded(m, h, depth), noting in the mask the sub-cells
+             * proven empty: the look-ahead up to the first sub-cell that
+             * may hold a centre (which keeps the child), one ball test for
+             * each after it */
             if (ball_holds(b, m, h)) continue;
-            if (depth > 0) {
-                double qq = 0.5 * h;
-                int live = 0;
-                for (int o2 = 0; o2 < 8; o2++) {
-                    double c2[3] = {m[0] + ((o2 & 1) ? qq : -qq), m[1] + ((o2 & 2) ? qq : -qq),
-                                    m[2] + ((o2 & 4) ? qq : -qq)};
-                    int v2 = v;
-                    if (!v2) {
-                        int k2 = classify_box(s, c2, qq);
-                        v2 = k2 == 2;
-                        if (!k2) {
-                            c.mask &= ~(1u << o2);
-                            continue;
-                        }
-                    }
-                    if (live ? ball_holds(b, c2, qq) : box_excluded(s, b, c2, qq, v2, depth - 1))
-                        c.mask &= ~(1u << o2);
-                    else
-                        live = 1;
-                }
-                if (!live) continue;
-            }
+            if (depth > 0 && !(c.mask = live_subs(s, b, m, h, v, depth - 1, 1))) continue;
             if (v) c.z |= VALID_BIT;
             if (push_cell(j, i, c)) j->failed = 1;
         }
