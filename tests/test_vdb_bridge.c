@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #ifndef M_PI
@@ -650,6 +651,130 @@ static void test_points(void)
     free(p.positions);
 }
 
+static int thread_count(void)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    int n = -1;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "Threads: %d", &n) == 1) break;
+    if (f) fclose(f);
+    return n;
+}
+
+/* A .vdb is read twice, first in a forked child (src/api/probe.c). A child
+ * forked while OpenVDB's TBB workers exist hangs in its first parallel call:
+ * seen as `vdbpack check` reporting a sound file as "did not finish within
+ * 30 s" when describing it right after reading its points. Here: points
+ * spread over many nodes, read (TBB workers start), then described with a
+ * short deadline; and vpv_quiesce_threads leaves no TBB worker behind. */
+static void test_probe_after_tbb_work(void)
+{
+    enum { N = 20000 };
+    vp_particles p;
+    memset(&p, 0, sizeof p);
+    p.count = p.capacity = N;
+    p.positions = malloc(sizeof(double) * 3 * N);
+    p.uniform_radius = 0.004f;
+    p.group_count = 1;
+    strcpy(p.group_names[0], "all");
+    srand(5);
+    for (int i = 0; i < 3 * N; ++i) p.positions[i] = 4.0 * rand() / RAND_MAX;
+    vp_write_params wp;
+    memset(&wp, 0, sizeof wp);
+    char f[300];
+    tmp_path(f, sizeof f, "probe_after_tbb.vdb");
+    ASSERT_EQ_INT(vpv_points_write(f, &p, &wp, err, sizeof err), VP_OK);
+    free(p.positions);
+
+    /* threads that are not TBB's: the main one and log4cplus's idle pool */
+    ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
+    int base = thread_count();
+    setenv("VDBPACK_READ_TIMEOUT", "8", 1);
+    vp_context *ctx = NULL;
+    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    for (int round = 0; round < 3; ++round) {
+        vp_particles *r = NULL;
+        vp_result rc = vp_read_points(ctx, f, &r);
+        if (rc != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
+        ASSERT_EQ_INT(rc, VP_OK);
+        ASSERT_EQ_INT(r->count, N);
+        vp_particles_destroy(r);
+        fprintf(stderr, "   round %d: %d threads after the read\n", round, thread_count());
+        char *text = NULL;
+        rc = vp_describe_file(ctx, f, 0, &text);
+        if (rc != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
+        ASSERT_EQ_INT(rc, VP_OK);
+        ASSERT_TRUE(strstr(text, "points: 20000") != NULL);
+        free(text);
+    }
+    vp_context_destroy(ctx);
+    unsetenv("VDBPACK_READ_TIMEOUT");
+    ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
+    fprintf(stderr, "   %d threads after vpv_quiesce_threads, %d before the reads\n",
+            thread_count(), base);
+    ASSERT_EQ_INT(thread_count(), base);
+}
+
+/* Another thread of the caller inside a TBB algorithm (a voxelization held
+ * in its progress callback): TBB cannot end its workers, vpv_quiesce_threads
+ * says so at once instead of waiting, and a .vdb is still read (in-process,
+ * without the forked check) rather than hanging in a child. */
+static _Atomic int busy_started, busy_release;
+
+static void nap_ms(long ms)
+{
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+    nanosleep(&ts, NULL);
+}
+
+static int busy_keep_going(void *user)
+{
+    (void)user;
+    busy_started = 1;
+    while (!busy_release) nap_ms(1);
+    return 1;
+}
+
+static void *busy_voxelize(void *arg)
+{
+    double v[24], c[3] = {0, 0, 0};
+    uint32_t t[36];
+    make_cube(c, 1.0, v, t, 0);
+    vpv_levelset *ls = NULL;
+    char e[256];
+    *(int *)arg = vpv_levelset_from_mesh(v, 8, t, 12, 0.02, 3, 3, 0, busy_keep_going, NULL, &ls,
+                                         e, sizeof e);
+    vpv_levelset_destroy(ls);
+    return NULL;
+}
+
+static void test_quiesce_while_tbb_busy(void)
+{
+    alarm(120); /* a hang here is the failure this test looks for */
+    char f[300];
+    tmp_path(f, sizeof f, "probe_after_tbb.vdb");
+    int rc = -1;
+    pthread_t th;
+    ASSERT_EQ_INT(pthread_create(&th, NULL, busy_voxelize, &rc), 0);
+    while (!busy_started) nap_ms(1);
+    ASSERT_EQ_INT(vpv_quiesce_threads(), -1);
+    vp_context *ctx = NULL;
+    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    char *text = NULL;
+    vp_result r = vp_describe_file(ctx, f, 0, &text);
+    if (r != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
+    ASSERT_EQ_INT(r, VP_OK);
+    ASSERT_TRUE(strstr(text, "points: 20000") != NULL);
+    free(text);
+    vp_context_destroy(ctx);
+    busy_release = 1;
+    ASSERT_EQ_INT(pthread_join(th, NULL), 0);
+    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
+    alarm(0);
+}
+
 int main(void)
 {
     snprintf(tmpdir, sizeof tmpdir, "/tmp/test_vdb_bridge.XXXXXX");
@@ -664,6 +789,8 @@ int main(void)
     RUN_TEST(test_read_errors);
     RUN_TEST(test_shared_levelsets);
     RUN_TEST(test_points);
+    RUN_TEST(test_probe_after_tbb_work);
+    RUN_TEST(test_quiesce_while_tbb_busy);
     char cmd[400];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", tmpdir);

@@ -4,10 +4,13 @@
  * cannot mend OpenVDB, so every .vdb is first read in a forked child that
  * runs the very same read and then exits: a crash or hang there becomes
  * one error line here, and only a file the child read cleanly is read again
- * in-process. The cost is a second read of the file. */
+ * in-process. The cost is a second read of the file. OpenVDB's TBB worker
+ * threads are ended before each fork: a child forked while they exist
+ * hangs in its first parallel call. */
 #include "api/probe.h"
 #include "core/context.h"
 #include "core/subproc.h"
+#include "vdb/vdb_bridge.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -33,6 +36,11 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     struct stat st;
     if (stat(path, &st) != 0) return VP_OK; /* the in-process read names the error */
     double timeout = vp_subproc_timeout("VDBPACK_READ_TIMEOUT", 30.0, 1.0, (size_t)st.st_size);
+    /* no TBB worker may exist at the fork (see vpv_quiesce_threads); if TBB
+     * cannot end them (another thread of the caller is inside a parallel
+     * algorithm), a forked read could hang on a sound file, so the file is
+     * read in-process only, without this guard */
+    if (vpv_quiesce_threads() != 0) return VP_OK;
     int fds[2];
     if (pipe(fds) != 0)
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot start the file check (pipe: %s)",

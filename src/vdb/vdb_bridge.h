@@ -18,6 +18,15 @@ extern "C" {
 /* Initialises OpenVDB (idempotent, thread-safe). */
 void vpv_init(void);
 
+/* Ends TBB's worker threads (tbb::finalize), waiting for them to exit, so
+ * that a fork() that follows leaves the child no TBB state made by threads
+ * it does not have: a child forked while OpenVDB's TBB workers exist hangs
+ * in its first parallel OpenVDB call (seen: Grid::activeVoxelCount waiting
+ * forever for workers after a points read). TBB starts new workers when it
+ * is next used. 0: no TBB worker thread is left; -1: TBB refused (another
+ * thread is inside a parallel algorithm), workers may remain. */
+int vpv_quiesce_threads(void);
+
 /* An owned openvdb::FloatGrid level set (negative inside). */
 typedef struct vpv_levelset vpv_levelset;
 

@@ -9,6 +9,7 @@
 #include <openvdb/util/logging.h>
 
 #include <openvdb/points/PointDataGrid.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <atomic>
@@ -32,6 +33,16 @@ extern "C" void vpv_init(void)
         });
     } catch (...) {
         // openvdb::initialize() does not throw in practice; nothing to report.
+    }
+}
+
+extern "C" int vpv_quiesce_threads(void)
+{
+    try {
+        tbb::task_scheduler_handle h{tbb::attach{}};
+        return tbb::finalize(h, std::nothrow) ? 0 : -1;
+    } catch (...) {
+        return -1;
     }
 }
 
