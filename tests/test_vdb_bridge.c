@@ -522,13 +522,21 @@ static void check_points_file(const char *path, const vp_particles *src, int ful
     free_particles(r);
 }
 
+/* A particle set of n particles with positions allocated (uninitialised);
+ * the caller frees p->positions. */
+static void particles_with_positions(vp_particles *p, size_t n)
+{
+    memset(p, 0, sizeof *p);
+    p->count = p->capacity = n;
+    p->positions = malloc(sizeof(double) * 3 * n);
+    ASSERT_TRUE(p->positions != NULL);
+}
+
 static void test_points(void)
 {
     enum { N = 1000 };
     vp_particles p;
-    memset(&p, 0, sizeof p);
-    p.count = p.capacity = N;
-    p.positions = malloc(sizeof(double) * 3 * N);
+    particles_with_positions(&p, N);
     p.radii = malloc(sizeof(float) * N);
     p.orients = malloc(sizeof(float) * 4 * N);
     p.groups = malloc(sizeof(uint16_t) * N);
@@ -672,9 +680,7 @@ static void test_probe_after_tbb_work(void)
 {
     enum { N = 20000 };
     vp_particles p;
-    memset(&p, 0, sizeof p);
-    p.count = p.capacity = N;
-    p.positions = malloc(sizeof(double) * 3 * N);
+    particles_with_positions(&p, N);
     p.uniform_radius = 0.004f;
     p.group_count = 1;
     strcpy(p.group_names[0], "all");
