@@ -725,7 +725,8 @@ static void test_probe_after_tbb_work(void)
 /* Another thread of the caller inside a TBB algorithm (a voxelization held
  * in its progress callback): TBB cannot end its workers, vpv_quiesce_threads
  * says so at once instead of waiting, and a .vdb is still read (in-process,
- * without the forked check) rather than hanging in a child. */
+ * without the forked check) rather than hanging in a child. It reads the
+ * file test_probe_after_tbb_work wrote. */
 static _Atomic int busy_started, busy_release;
 
 static void nap_ms(long ms)
