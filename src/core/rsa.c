@@ -411,6 +411,28 @@ static int dart_solid_free(const rsa *s, dart *t, double r) {
 
 /* --- particle order ------------------------------------------------------------ */
 
+/* One particle's data, held while renumber moves the others. */
+typedef struct held {
+    double pos[3];
+    float r, q[4];
+} held;
+
+static void hold(const vp_particles *p, size_t i, held *h) {
+    memcpy(h->pos, p->positions + 3 * i, sizeof h->pos);
+    h->r = p->radii[i];
+    if (p->has_orient) memcpy(h->q, p->orients + 4 * i, sizeof h->q);
+}
+
+/* Puts the held particle at i and holds the one that was there. */
+static void exchange(vp_particles *p, size_t i, held *h) {
+    held t;
+    hold(p, i, &t);
+    memcpy(p->positions + 3 * i, h->pos, sizeof h->pos);
+    p->radii[i] = h->r;
+    if (p->has_orient) memcpy(p->orients + 4 * i, h->q, sizeof h->q);
+    *h = t;
+}
+
 /* Renumbers particles [first, count) in the order of the neighbour grid's
  * cells (row by row), so that the particles a query reads lie together in
  * memory instead of in placement order, scattered: the splits gather the
@@ -431,34 +453,19 @@ static void renumber(rsa *s, size_t first) {
                 to[j] = j < first ? j : k++;
             }
     }
-    /* move each particle to its place, cycle by cycle; to[i] == i: done
-     * (groups: one value over the pass) */
+    /* move each particle to its place, cycle by cycle, holding one at a
+     * time; to[i] == i: done (groups: one value over the pass) */
     for (size_t i = first; i < n; i++) {
         if (to[i] == i) continue;
-        double tp[3];
-        float tr = p->radii[i], tq[4] = {0, 0, 0, 0};
-        memcpy(tp, p->positions + 3 * i, sizeof tp);
-        if (p->has_orient) memcpy(tq, p->orients + 4 * i, sizeof tq);
+        held h;
+        hold(p, i, &h);
         for (uint32_t d = to[i]; d != i;) { /* put the held particle at d, hold d's */
-            double xp[3];
-            float xr = p->radii[d], xq[4];
-            memcpy(xp, p->positions + 3 * (size_t)d, sizeof xp);
-            memcpy(p->positions + 3 * (size_t)d, tp, sizeof tp);
-            memcpy(tp, xp, sizeof tp);
-            p->radii[d] = tr;
-            tr = xr;
-            if (p->has_orient) {
-                memcpy(xq, p->orients + 4 * (size_t)d, sizeof xq);
-                memcpy(p->orients + 4 * (size_t)d, tq, sizeof tq);
-                memcpy(tq, xq, sizeof tq);
-            }
+            exchange(p, d, &h);
             uint32_t nd = to[d];
             to[d] = d;
             d = nd;
         }
-        memcpy(p->positions + 3 * i, tp, sizeof tp);
-        p->radii[i] = tr;
-        if (p->has_orient) memcpy(p->orients + 4 * i, tq, sizeof tq);
+        exchange(p, i, &h);
         to[i] = (uint32_t)i;
     }
     vp_sgrid_clear(g);
