@@ -152,6 +152,32 @@ static void test_size_dist(void) {
         if (s == 2) ASSERT_NEAR(sd, 0.05, 0.05 * 0.03);               /* lognormal SD */
         if (s == 3) ASSERT_NEAR(m1, 0.3, 0.003);
     }
+    /* formatted as written (shortest text that reads back exactly), and
+     * parsed back to the same values */
+    const char *fmt[] = {"0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6",
+                         "0.1000000000000000055511151231257827", "1e-300"};
+    const char *want[] = {"0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6",
+                          "0.1", "1e-300"};
+    for (int s = 0; s < 6; s++) {
+        vp_size_dist d, e;
+        char buf[256];
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, fmt[s], &d), VP_OK);
+        vp_size_dist_format(&d, buf, sizeof buf);
+        fprintf(stderr, "   format(%s) = %s\n", fmt[s], buf);
+        ASSERT_TRUE(!strcmp(buf, want[s]));
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, buf, &e), VP_OK);
+        ASSERT_TRUE(e.kind == d.kind && e.a == d.a && e.b == d.b && e.n == d.n);
+        for (unsigned i = 0; i < d.n; i++) ASSERT_TRUE(e.values[i] == d.values[i]);
+    }
+    {   /* a value that needs 17 digits keeps them */
+        vp_size_dist d, e;
+        char buf[64];
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, "0.30000000000000004", &d), VP_OK);
+        vp_size_dist_format(&d, buf, sizeof buf);
+        ASSERT_TRUE(!strcmp(buf, "0.30000000000000004"));
+        ASSERT_EQ_INT(vp_size_dist_parse(ctx, buf, &e), VP_OK);
+        ASSERT_TRUE(e.a == d.a);
+    }
     const char *bad[] = {"-1", "0", "uniform:0.3:0.1", "gamma:1:2", "lognormal:0.1", "list:",
                          "uniform:0.1:nan", "1e400", "0.1x"};
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {

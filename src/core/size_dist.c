@@ -195,15 +195,35 @@ void vp_size_dist_scale(vp_size_dist *d, double k) {
     }
 }
 
+/* The shortest of %.15g, %.16g, %.17g that reads back as v: 0.004493 stays
+ * "0.004493" (not 0.0044929999999999996), and the text still gives v exactly. */
+static void fmt_exact(char *buf, size_t len, double v) {
+    for (int prec = 15; prec <= 17; prec++) {
+        snprintf(buf, len, "%.*g", prec, v);
+        if (prec == 17 || strtod(buf, NULL) == v) return;
+    }
+}
+
 void vp_size_dist_format(const vp_size_dist *d, char *out, size_t outlen) {
+    char a[32], b[32];
     switch (d->kind) {
-    case VP_SIZE_CONSTANT: snprintf(out, outlen, "%.17g", d->a); return;
-    case VP_SIZE_UNIFORM: snprintf(out, outlen, "uniform:%.17g:%.17g", d->a, d->b); return;
-    case VP_SIZE_LOGNORMAL: snprintf(out, outlen, "lognormal:%.17g:%.17g", d->a, d->b); return;
+    case VP_SIZE_CONSTANT:
+        fmt_exact(a, sizeof a, d->a);
+        snprintf(out, outlen, "%s", a);
+        return;
+    case VP_SIZE_UNIFORM:
+    case VP_SIZE_LOGNORMAL:
+        fmt_exact(a, sizeof a, d->a);
+        fmt_exact(b, sizeof b, d->b);
+        snprintf(out, outlen, "%s:%s:%s", d->kind == VP_SIZE_UNIFORM ? "uniform" : "lognormal", a,
+                 b);
+        return;
     case VP_SIZE_LIST: {
         size_t at = (size_t)snprintf(out, outlen, "list");
-        for (unsigned i = 0; i < d->n && at < outlen; i++)
-            at += (size_t)snprintf(out + at, outlen - at, ":%.17g", d->values[i]);
+        for (unsigned i = 0; i < d->n && at < outlen; i++) {
+            fmt_exact(a, sizeof a, d->values[i]);
+            at += (size_t)snprintf(out + at, outlen - at, ":%s", a);
+        }
         return;
     }
     }
