@@ -1,0 +1,25 @@
+# Run by the build (VP_PGO in CMakeLists.txt): removes the profiles (.gcda)
+# of an earlier run, runs the instrumented training program TRAIN, checks
+# that it wrote the profile the real library's build reads (PGO/rsa.c.gcda,
+# named after the -dumpbase both compiles of rsa.c get), keeps its report
+# in PGO/train.txt, and touches STAMP.
+foreach(dir ${GEN} ${PGO})
+  file(GLOB_RECURSE old "${dir}/*.gcda")
+  if(old)
+    file(REMOVE ${old})
+  endif()
+endforeach()
+file(MAKE_DIRECTORY "${PGO}")
+execute_process(COMMAND ${TRAIN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "PGO training run failed (${rc}):\n${out}\n${err}\n"
+    "Configure with -DVP_PGO=OFF to build without profile feedback.")
+endif()
+# its report, for the test pgo_same_packings
+file(WRITE "${PGO}/train.txt" "${out}")
+file(GLOB profiles "${PGO}/*.gcda")
+if(NOT profiles)
+  message(FATAL_ERROR "PGO training run wrote no profile under ${PGO}")
+endif()
+message(STATUS "PGO: training done, profile ${profiles}")
+file(TOUCH "${STAMP}")
