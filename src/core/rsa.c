@@ -120,6 +120,8 @@ typedef struct rsa {
                              tested against the particles before their batch in
                              parallel, and only against the batch's own serially */
     double a0;            /* level-0 cell side */
+    double side[32];      /* cell side at each level: a0 2^-level (levels stay
+                             below 31: coordinates fit in 31 bits) */
     double origin[3];     /* cell lattice origin */
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
@@ -521,7 +523,7 @@ static void cell_store(unsigned char *buf, size_t size, size_t i, cell c) {
     }
 }
 
-static double cell_side(const rsa *s, int level) { return ldexp(s->a0, -level); }
+static double cell_side(const rsa *s, int level) { return s->side[level]; }
 
 static void cell_center(const rsa *s, const cell *c, int level, double out[3]) {
     double a = cell_side(s, level);
@@ -1155,6 +1157,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     s->cell_budget = s->max_cells_param ? s->max_cells_param : (size_t)(16.0 * max_cells);
     s->split_blocked = 0;
     s->a0 = a0;
+    for (int l = 0; l < 32; l++) s->side[l] = ldexp(a0, -l);
     int64_t dims[3];
     int64_t maxdim = 1;
     for (int k = 0; k < 3; k++) {
