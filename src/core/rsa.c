@@ -628,24 +628,29 @@ static int push_cell(const split_job *j, size_t i, cell c) {
 typedef struct ball_list {
     size_t n;
     double c[BALLS_MAX][3];
-    double e2[BALLS_MAX]; /* (rmin + r_j)^2 */
+    double e2[BALLS_MAX]; /* (rin (rmin + r_j))^2 */
     const rsa *s;
-    const double *m;      /* parent centre */
+    double m[3];          /* parent centre */
     double half;          /* parent half side */
+    double uni_e2;        /* (rin (rmin + r))^2 when every radius is r, else 0 */
 } ball_list;
 
 static int gather_visit(void *user, uint32_t j) {
     ball_list *b = user;
     const double *c = b->s->p->positions + 3 * (size_t)j;
-    double e = b->s->rin * (b->s->rmin + (b->s->uni_r > 0 ? b->s->uni_r : b->s->p->radii[j])),
-           d2 = 0.0;
+    double e2 = b->uni_e2, d2 = 0.0;
+    if (!(e2 > 0)) {
+        double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]);
+        e2 = e * e;
+    }
     for (int k = 0; k < 3; k++) { /* distance from c to the parent box */
         double t = fabs(b->m[k] - c[k]) - b->half;
-        if (t > 0) d2 += t * t;
+        t = t > 0 ? t : 0.0;
+        d2 += t * t;
     }
-    if (d2 >= e * e || b->n == BALLS_MAX) return 0;
+    if (d2 >= e2 || b->n == BALLS_MAX) return 0;
     memcpy(b->c[b->n], c, sizeof b->c[0]);
-    b->e2[b->n] = e * e;
+    b->e2[b->n] = e2;
     b->n++;
     return 0;
 }
@@ -779,6 +784,11 @@ static void split_chunk(void *user, size_t i) {
         return;
     }
     b->s = s;
+    b->uni_e2 = 0.0;
+    if (s->uni_r > 0) {
+        double e = s->rin * (s->rmin + s->uni_r);
+        b->uni_e2 = e * e;
+    }
     for (size_t k = lo; k < hi; k++) {
         if (j->nout[i] > j->budget) {
             j->over = 1;
@@ -790,7 +800,7 @@ static void split_chunk(void *user, size_t i) {
         double pm[3];
         cell_center(s, &p, j->child_level - 1, pm);
         b->n = 0;
-        b->m = pm;
+        memcpy(b->m, pm, sizeof b->m);
         b->half = a;
         if (s->p->count) { /* balls (radius rin (rmin + r_j) <= rmin + r_j) meeting the parent */
             double blo[3] = {pm[0] - a, pm[1] - a, pm[2] - a}, bhi[3] = {pm[0] + a, pm[1] + a, pm[2] + a};
