@@ -1,6 +1,7 @@
 /* Training workload for the profile-guided build (VP_PGO in CMakeLists.txt):
- * run once during the build by an instrumented copy of the C library, whose
- * branch and call counts then steer the optimisation of the real one. It
+ * run once during the build by a copy of the C library whose rsa.c is
+ * instrumented; its branch and call counts then steer the optimisation of
+ * the real rsa.c. It
  * runs the random packers as users do, at about 1e5 particles (a few
  * seconds): spheres by count and maximal RSA, a grown two-pass packing and a
  * size distribution, solids, relaxation, and the check of each result. A
@@ -65,25 +66,22 @@ static void rsa(vp_context *ctx, const vp_container *c, vp_shape shape, vp_rsa_p
     vp_particles_destroy(p);
 }
 
-static vp_context *g_ctx;
-
-static vp_rsa_pass pass(size_t count, const char *radius, int grow) {
+static vp_rsa_pass pass(vp_context *ctx, size_t count, const char *radius, int grow) {
     vp_rsa_pass ps;
     vp_rsa_pass_init(&ps);
     ps.count = count;
     ps.maximal = count == 0;
     ps.grow = grow;
-    if (vp_size_dist_parse(g_ctx, radius, &ps.radius) != VP_OK) failed = 1;
+    if (vp_size_dist_parse(ctx, radius, &ps.radius) != VP_OK) failed = 1;
     return ps;
 }
 
 int main(void) {
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return 1;
-    g_ctx = ctx;
     /* one thread: the instrumented counters need no atomic updates (with
-     * them and two threads the run took 40 s instead of 9); the packings do
-     * not depend on the thread count */
+     * them, every file instrumented and two threads, the run took 40 s);
+     * the packings do not depend on the thread count */
     vp_context_set_threads(ctx, 1);
     double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
     vp_container *box = NULL, *ball = NULL;
@@ -91,17 +89,17 @@ int main(void) {
         vp_container_create_sphere(ctx, zero, 0.5, &ball) != VP_OK)
         return 1;
 
-    vp_rsa_pass one = pass(100000, "0.00926", 0);
+    vp_rsa_pass one = pass(ctx, 100000, "0.00926", 0);
     rsa(ctx, box, VP_SHAPE_SPHERE, &one, 1, VP_FIT_INSIDE, "rsa count");
-    vp_rsa_pass mx = pass(0, "0.0125", 0);
+    vp_rsa_pass mx = pass(ctx, 0, "0.0125", 0);
     rsa(ctx, box, VP_SHAPE_SPHERE, &mx, 1, VP_FIT_INSIDE, "rsa maximal");
-    vp_rsa_pass two[2] = {pass(400, "0.04", 1), pass(0, "0.012", 0)};
+    vp_rsa_pass two[2] = {pass(ctx, 400, "0.04", 1), pass(ctx, 0, "0.012", 0)};
     rsa(ctx, ball, VP_SHAPE_SPHERE, two, 2, VP_FIT_INSIDE, "rsa binary, grown");
-    vp_rsa_pass law = pass(20000, "lognormal:0.008:0.002", 0);
+    vp_rsa_pass law = pass(ctx, 20000, "lognormal:0.008:0.002", 0);
     rsa(ctx, ball, VP_SHAPE_SPHERE, &law, 1, VP_FIT_CENTER, "rsa lognormal");
-    vp_rsa_pass cubes = pass(0, "0.04", 0);
+    vp_rsa_pass cubes = pass(ctx, 0, "0.04", 0);
     rsa(ctx, box, VP_SHAPE_CUBE, &cubes, 1, VP_FIT_INSIDE, "rsa cubes");
-    vp_rsa_pass octa = pass(2000, "0.03", 0);
+    vp_rsa_pass octa = pass(ctx, 2000, "0.03", 0);
     rsa(ctx, ball, VP_SHAPE_OCTAHEDRON, &octa, 1, VP_FIT_INSIDE, "rsa octahedra");
 
     const vp_container *relax_in[2] = {box, ball};

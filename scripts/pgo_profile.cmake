@@ -1,14 +1,12 @@
-# Run by the build (VP_PGO in CMakeLists.txt): removes the profiles (.gcda)
+# Run by the build (VP_PGO in CMakeLists.txt): removes the profile (.gcda)
 # of an earlier run, runs the instrumented training program TRAIN, checks
 # that it wrote the profile the real library's build reads (PGO/rsa.c.gcda,
 # named after the -dumpbase both compiles of rsa.c get), keeps its report
 # in PGO/train.txt, and touches STAMP.
-foreach(dir ${GEN} ${PGO})
-  file(GLOB_RECURSE old "${dir}/*.gcda")
-  if(old)
-    file(REMOVE ${old})
-  endif()
-endforeach()
+file(GLOB old "${PGO}/*.gcda")
+if(old)
+  file(REMOVE ${old})
+endif()
 file(MAKE_DIRECTORY "${PGO}")
 execute_process(COMMAND ${TRAIN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)

@@ -119,9 +119,8 @@ typedef struct rsa {
     int pretest;          /* solids: the pass has one radius (rmin), so darts are
                              tested against the particles before their batch in
                              parallel, and only against the batch's own serially */
-    double a0;            /* level-0 cell side */
-    double side[32];      /* cell side at each level: a0 2^-level (levels stay
-                             below 31: coordinates fit in 31 bits) */
+    double side[32];      /* cell side at each level: side[0] 2^-level (levels
+                             stay below 31: coordinates fit in 31 bits) */
     double origin[3];     /* cell lattice origin */
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
@@ -1166,7 +1165,6 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     while (vol / (a0 * a0 * a0) > max_cells) a0 *= 2.0;
     s->cell_budget = s->max_cells_param ? s->max_cells_param : (size_t)(16.0 * max_cells);
     s->split_blocked = 0;
-    s->a0 = a0;
     for (int l = 0; l < 32; l++) s->side[l] = ldexp(a0, -l);
     int64_t dims[3];
     int64_t maxdim = 1;

@@ -207,10 +207,7 @@ static void fmt_exact(char *buf, size_t len, double v) {
 void vp_size_dist_format(const vp_size_dist *d, char *out, size_t outlen) {
     char a[32], b[32];
     switch (d->kind) {
-    case VP_SIZE_CONSTANT:
-        fmt_exact(a, sizeof a, d->a);
-        snprintf(out, outlen, "%s", a);
-        return;
+    case VP_SIZE_CONSTANT: fmt_exact(out, outlen, d->a); return;
     case VP_SIZE_UNIFORM:
     case VP_SIZE_LOGNORMAL:
         fmt_exact(a, sizeof a, d->a);
