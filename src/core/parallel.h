@@ -1,5 +1,6 @@
-/* A minimal fork-join helper over pthreads. Work is split by the caller
- * into a fixed number of chunks so results never depend on thread timing. */
+/* A minimal fork-join helper over a pool of pthreads kept between calls.
+ * Work is split by the caller into a fixed number of chunks so results
+ * never depend on thread timing. */
 #ifndef VDBPACK_CORE_PARALLEL_H
 #define VDBPACK_CORE_PARALLEL_H
 
@@ -9,4 +10,10 @@
  * (an atomic counter hands out indices). Returns 0, or -1 if threads could
  * not be created (then everything ran on the calling thread). */
 int vp_parallel_for(int threads, size_t n, void (*fn)(void *user, size_t i), void *user);
+
+/* Sets the most pool workers a call uses (default: one per other
+ * core; more take part in a call only when it asks for more threads). For
+ * tests: the pool's bookkeeping of calls with fewer threads than workers
+ * cannot be exercised on a machine with two cores otherwise. */
+void vp_parallel_pool_cap(int workers);
 #endif
