@@ -166,7 +166,11 @@ int vp_parallel_for(int threads, size_t n, void (*fn)(void *, size_t), void *use
         if (!ok) break;
         P.nworkers++;
     }
-    if (want > P.nworkers) want = P.nworkers;
+    int rc = 0;
+    if (want > P.nworkers) { /* some could not be created: fewer take part */
+        want = P.nworkers;
+        rc = -1;
+    }
     atomic_store(&P.cur, &j);
     atomic_store(&P.pending, want);
     atomic_store(&P.call, ((atomic_load(&P.call) >> 8) + 1) << 8 | (unsigned long)want);
@@ -178,5 +182,5 @@ int vp_parallel_for(int threads, size_t n, void (*fn)(void *, size_t), void *use
     while (atomic_load(&P.pending)) pthread_cond_wait(&P.done, &P.mu);
     P.busy = 0;
     pthread_mutex_unlock(&P.mu);
-    return 0;
+    return rc;
 }

@@ -7,8 +7,9 @@
 #include <stddef.h>
 
 /* Calls fn(user, i) for every i in [0, n) on up to `threads` threads
- * (an atomic counter hands out indices). Returns 0, or -1 if threads could
- * not be created (then everything ran on the calling thread). */
+ * (an atomic counter hands out indices; at most one per core from the
+ * pool). Returns 0, or -1 if some threads could not be created (then the
+ * others, or the calling thread alone, ran everything). */
 int vp_parallel_for(int threads, size_t n, void (*fn)(void *user, size_t i), void *user);
 
 /* Sets the most pool workers a call uses (default: one per other
