@@ -23,6 +23,7 @@
 #include "core/geom.h"
 #include "core/parallel.h"
 #include "core/rng.h"
+#include "core/rsa_top.h"
 #include "core/sgrid.h"
 #include "core/mesh_shape.h"
 #include "core/shape.h"
@@ -53,14 +54,15 @@ void vp_rsa_params_init(vp_rsa_params *p) {
 /* mask: bit o (o = x + 2y + 4z, each 0 or 1) is clear when the cell's
  * sub-cell o, one level finer, was proven to hold no admissible centre
  * when the cell was made (what stays true: placed spheres stay). Darts
- * landing there fail at once, without a neighbour query. */
-typedef struct cell { uint32_t x, y, z, mask; } cell;
+ * landing there fail at once, without a neighbour query. top: the code
+ * of its top ball (core/rsa_top.h), or VP_TOP_NONE. */
+typedef struct cell { uint32_t x, y, z, mask, top; } cell;
 
 /* Active cells are stored packed: 4 bytes (10 bits per coordinate and the
  * valid flag in the top bit) at the levels whose coordinates fit in 10
  * bits, 8 bytes (21 bits each) where they fit in 21, and as the three
  * coordinates (12 bytes) at finer levels, where few cells are left; then
- * the mask byte. Cells are the
+ * the top ball's 3 bytes (spheres only) and the mask byte. Cells are the
  * largest structure of a pass (several per particle at levels 1 to 3), so
  * their size is most of the packer's memory. */
 #define PACK_BITS 21
@@ -87,7 +89,12 @@ typedef struct rsa {
     vp_context *ctx;
     const vp_container *c;
     vp_fit fit;
-    vp_particles *p;
+    vp_particles *p;      /* positions stay NULL during the passes: in fpos */
+    float *fpos;          /* 3 per particle, relative to base: half the bytes of
+                             doubles, so that darts and splits read half the
+                             memory; a candidate is rounded to them before its
+                             tests, so what is tested is what is stored */
+    double base[3];       /* the container's box centre */
     vp_sgrid g;
     const vp_polyhedron *poly; /* a platonic solid, or NULL */
     const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
@@ -105,6 +112,7 @@ typedef struct rsa {
     double reach;         /* bounding radius of what the overlap test compares, per
                              unit radius: 1, or the box's farthest corner (bbox) */
     double max_r;         /* largest radius placed so far */
+    double min_r;         /* smallest radius placed so far (HUGE_VAL: none) */
     double uni_r;         /* the radius of every particle placed so far, or 0 when
                              they differ: the neighbour tests then skip the load
                              of radii[j], a cache miss (particles are in placement
@@ -127,6 +135,7 @@ typedef struct rsa {
     int split_blocked;    /* a split would exceed the budget: plain darts */
     int coord_bits;       /* bits of the level-0 cell coordinates */
     unsigned char *cells; /* ncells cells of csize bytes each */
+    vp_top_scale top[32]; /* top-ball encoding of each level (u = 0: none) */
     size_t ncells, csize;
     uint64_t stream_seed;
     /* batch */
@@ -147,13 +156,14 @@ static double thr_drop(const rsa *s, double r) {
 
 /* --- particle storage ------------------------------------------------------- */
 
-static int reserve(vp_particles *p, size_t want) {
+static int reserve(rsa *s, size_t want) {
+    vp_particles *p = s->p;
     if (want <= p->capacity) return 0;
     size_t cap = p->capacity ? p->capacity : 1024;
     while (cap < want) cap += cap / 2;
-    double *pos = realloc(p->positions, cap * 3 * sizeof *pos);
+    float *pos = realloc(s->fpos, cap * 3 * sizeof *pos);
     if (!pos) return -1;
-    p->positions = pos;
+    s->fpos = pos;
     vp_mem_advise_random(pos, cap * 3 * sizeof *pos);
     float *rad = realloc(p->radii, cap * sizeof *rad);
     if (!rad) return -1;
@@ -172,9 +182,25 @@ static int reserve(vp_particles *p, size_t want) {
     return 0;
 }
 
+/* Particle j's centre, in world coordinates. */
+static inline void ppos(const rsa *s, size_t j, double out[3]) {
+    const float *f = s->fpos + 3 * j;
+    for (int k = 0; k < 3; k++) out[k] = s->base[k] + (double)f[k];
+}
+
+/* x rounded to what fpos can hold (ppos gives it back exactly). */
+static inline void round_pos(const rsa *s, double x[3]) {
+    for (int k = 0; k < 3; k++) x[k] = s->base[k] + (double)(float)(x[k] - s->base[k]);
+}
+
+static inline void store_pos(rsa *s, size_t j, const double x[3]) {
+    for (int k = 0; k < 3; k++) s->fpos[3 * j + k] = (float)(x[k] - s->base[k]);
+}
+
 /* --- neighbour tests ---------------------------------------------------------- */
 
 typedef struct clr_query {
+    const rsa *s;
     const vp_particles *p;
     double ur;     /* every radius, or 0 */
     const double *x;
@@ -188,7 +214,8 @@ typedef struct clr_query {
 static int clr_visit(void *user, uint32_t j) {
     clr_query *q = user;
     if (j < q->from || j >= q->upto || j == q->skip) return 0;
-    const double *c = q->p->positions + 3 * (size_t)j;
+    double c[3];
+    ppos(q->s, j, c);
     double dx = q->x[0] - c[0], dy = q->x[1] - c[1], dz = q->x[2] - c[2];
     double r = q->ur > 0 ? q->ur : q->p->radii[j];
     double lim = q->best + r; /* only a closer surface matters */
@@ -205,7 +232,7 @@ static int clr_visit(void *user, uint32_t j) {
  * packing: below stop the verdict does not depend on the order). */
 static double clearance(const rsa *s, const double x[3], double reach, double stop, size_t from,
                         size_t upto) {
-    clr_query q = {s->p, s->uni_r, x, reach, stop, from, upto, SIZE_MAX};
+    clr_query q = {s, s->p, s->uni_r, x, reach, stop, from, upto, SIZE_MAX};
     vp_sgrid_query_near(&s->g, x, reach, clr_visit, &q);
     return q.best;
 }
@@ -296,7 +323,8 @@ static int cube_quick_other(solid_query *w, const double d[3], double rj, uint32
  * tests (and, for cubes, cube_quick_cand) left it undecided. 1 overlap. */
 static int solid_exact(solid_query *w, uint32_t j) {
     const rsa *s = w->s;
-    const double *c = s->p->positions + 3 * (size_t)j;
+    double c[3];
+    ppos(s, j, c);
     double rj = s->p->radii[j], d[3];
     for (int k = 0; k < 3; k++) d[k] = w->x[k] - c[k];
     double qj[4];
@@ -325,7 +353,8 @@ static int solid_visit(void *user, uint32_t j) {
     solid_query *w = user;
     const rsa *s = w->s;
     if (j == w->skip || j < w->from) return 0;
-    const double *c = s->p->positions + 3 * (size_t)j;
+    double c[3];
+    ppos(s, j, c);
     double rj = s->p->radii[j], e = w->r + rj, d[3], d2 = 0.0;
     for (int k = 0; k < 3; k++) {
         d[k] = w->x[k] - c[k];
@@ -414,21 +443,23 @@ static int dart_solid_free(const rsa *s, dart *t, double r) {
 
 /* One particle's data, held while renumber moves the others. */
 typedef struct held {
-    double pos[3];
+    float pos[3];
     float r, q[4];
 } held;
 
-static void hold(const vp_particles *p, size_t i, held *h) {
-    memcpy(h->pos, p->positions + 3 * i, sizeof h->pos);
+static void hold(const rsa *s, size_t i, held *h) {
+    const vp_particles *p = s->p;
+    memcpy(h->pos, s->fpos + 3 * i, sizeof h->pos);
     h->r = p->radii[i];
     if (p->has_orient) memcpy(h->q, p->orients + 4 * i, sizeof h->q);
 }
 
 /* Puts the held particle at i and holds the one that was there. */
-static void exchange(vp_particles *p, size_t i, held *h) {
+static void exchange(rsa *s, size_t i, held *h) {
+    vp_particles *p = s->p;
     held t;
-    hold(p, i, &t);
-    memcpy(p->positions + 3 * i, h->pos, sizeof h->pos);
+    hold(s, i, &t);
+    memcpy(s->fpos + 3 * i, h->pos, sizeof h->pos);
     p->radii[i] = h->r;
     if (p->has_orient) memcpy(p->orients + 4 * i, h->q, sizeof h->q);
     *h = t;
@@ -459,32 +490,42 @@ static void renumber(rsa *s, size_t first) {
     for (size_t i = first; i < n; i++) {
         if (to[i] == i) continue;
         held h;
-        hold(p, i, &h);
+        hold(s, i, &h);
         for (uint32_t d = to[i]; d != i;) { /* put the held particle at d, hold d's */
-            exchange(p, d, &h);
+            exchange(s, d, &h);
             uint32_t nd = to[d];
             to[d] = d;
             d = nd;
         }
-        exchange(p, i, &h);
+        exchange(s, i, &h);
         to[i] = (uint32_t)i;
     }
     vp_sgrid_clear(g);
-    for (size_t i = 0; i < n; i++) /* cannot fail: the links hold n already */
-        vp_sgrid_insert(g, (uint32_t)i, p->positions + 3 * i, p->radii[i]);
+    for (size_t i = 0; i < n; i++) { /* cannot fail: the links hold n already */
+        double x[3];
+        ppos(s, i, x);
+        vp_sgrid_insert(g, (uint32_t)i, x, p->radii[i]);
+    }
 }
 
 /* --- active cells ------------------------------------------------------------- */
 
 static size_t cell_bytes(const rsa *s, int level) {
     int b = s->coord_bits + level; /* bits of a coordinate at this level */
-    return (b <= PACK4_BITS ? 4 : b <= PACK_BITS ? 8 : 12) + 1; /* + the mask */
+    /* + the top ball (spheres) and the mask: a size that is a multiple of
+     * 4 has a top ball */
+    return (b <= PACK4_BITS ? 4 : b <= PACK_BITS ? 8 : 12) + (s->solid ? 1 : 4);
 }
 
 static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
     cell c;
     const unsigned char *e = buf + size * i;
     c.mask = e[size - 1];
+    c.top = VP_TOP_NONE;
+    if (size % 4 == 0) {
+        c.top = (uint32_t)e[size - 4] | (uint32_t)e[size - 3] << 8 | (uint32_t)e[size - 2] << 16;
+        size -= 3;
+    }
     size--;
     if (size == 4) {
         uint32_t k;
@@ -507,6 +548,12 @@ static cell cell_load(const unsigned char *buf, size_t size, size_t i) {
 static void cell_store(unsigned char *buf, size_t size, size_t i, cell c) {
     unsigned char *e = buf + size * i;
     e[size - 1] = (unsigned char)c.mask;
+    if (size % 4 == 0) {
+        e[size - 4] = (unsigned char)c.top;
+        e[size - 3] = (unsigned char)(c.top >> 8);
+        e[size - 2] = (unsigned char)(c.top >> 16);
+        size -= 3;
+    }
     size--;
     if (size == 4) {
         uint32_t k = c.x | c.y << PACK4_BITS | (c.z & ~VALID_BIT) << (2 * PACK4_BITS) |
@@ -546,6 +593,7 @@ static int classify(const rsa *s, const cell *c, int level) {
 }
 
 typedef struct cover_query {
+    const rsa *s;
     const vp_particles *p;
     double ur;
     const double *m;
@@ -556,7 +604,8 @@ typedef struct cover_query {
 
 static int cover_visit(void *user, uint32_t j) {
     cover_query *q = user;
-    const double *c = q->p->positions + 3 * (size_t)j;
+    double c[3];
+    ppos(q->s, j, c);
     double e = q->rin * (q->rmin + (q->ur > 0 ? q->ur : q->p->radii[j])), f = 0.0;
     for (int k = 0; k < 3; k++) {
         double t = fabs(q->m[k] - c[k]) + q->half;
@@ -571,7 +620,7 @@ static int covered(const rsa *s, const cell *c, int level) {
     if (!s->p->count) return 0;
     double a = cell_side(s, level), m[3];
     cell_center(s, c, level, m);
-    cover_query q = {s->p, s->uni_r, m, 0.5 * a, s->rmin, s->rin};
+    cover_query q = {s, s->p, s->uni_r, m, 0.5 * a, s->rmin, s->rin};
     return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
 }
 
@@ -636,7 +685,8 @@ typedef struct ball_list {
 
 static int gather_visit(void *user, uint32_t j) {
     ball_list *b = user;
-    const double *c = b->s->p->positions + 3 * (size_t)j;
+    double c[3];
+    ppos(b->s, j, c);
     double e2 = b->uni_e2, d2 = 0.0;
     if (!(e2 > 0)) {
         double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]);
@@ -695,6 +745,18 @@ static unsigned front_holds_subs(const ball_list *b, const double m[3], double q
     for (int o = 0; o < 8; o++)
         if (u[0][o & 1] + u[1][(o >> 1) & 1] + u[2][o >> 2] < b->e2[0]) bits |= 1u << o;
     return bits;
+}
+
+/* The code of the cell's top ball (centre m): the ball at the front of the
+ * parent's list, the last that held a box in the cell's look-ahead (or,
+ * without one, in a sibling's), mostly one that holds much of the cell;
+ * VP_TOP_NONE when the list is empty or that ball does not meet the cell.
+ * The deepest ball of the list (largest e^2 - |c - m|^2) did no better and
+ * cost a scan of the list per cell (docs/rsa.md). */
+static uint32_t top_ball(const vp_top_scale *ts, const ball_list *b, const double m[3]) {
+    if (!(ts->u > 0) || !b->n) return VP_TOP_NONE;
+    double off[3] = {b->c[0][0] - m[0], b->c[0][1] - m[1], b->c[0][2] - m[2]};
+    return vp_top_encode(ts, off);
 }
 
 /* Container test of a box by its centre and half side, as classify(). */
@@ -756,8 +818,7 @@ static void split_chunk(void *user, size_t i) {
         size_t rows = (size_t)(j->dims[1] * j->dims[2]);
         if (hi > rows) hi = rows;
         for (size_t r = lo; r < hi; r++) {
-            cell c;
-            c.mask = 0xFF; /* sub-cells not tested: all may hold a centre */
+            cell c = {0, 0, 0, 0xFF, VP_TOP_NONE}; /* sub-cells not tested: all may hold a centre */
             c.y = (uint32_t)(r % (size_t)j->dims[1]);
             c.z = (uint32_t)(r / (size_t)j->dims[1]);
             for (int64_t x = 0; x < j->dims[0]; x++) {
@@ -782,6 +843,7 @@ static void split_chunk(void *user, size_t i) {
         j->failed = 1;
         return;
     }
+    const vp_top_scale *ts = &s->top[j->child_level];
     b->s = s;
     b->uni_e2 = 0.0;
     if (s->uni_r > 0) {
@@ -807,7 +869,7 @@ static void split_chunk(void *user, size_t i) {
         }
         for (int o = 0; o < 8; o++) {
             if (!(p.mask >> o & 1)) continue; /* proven empty when p was made */
-            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1), 0xFF};
+            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1), 0xFF, VP_TOP_NONE};
             double m[3];
             cell_center(s, &c, j->child_level, m);
             int v = pvalid;
@@ -823,6 +885,7 @@ static void split_chunk(void *user, size_t i) {
             if (ball_holds(b, m, h)) continue;
             if (depth > 0 && !(c.mask = live_subs(s, b, m, h, v, depth - 1, 1))) continue;
             if (v) c.z |= VALID_BIT;
+            c.top = top_ball(ts, b, m);
             if (push_cell(j, i, c)) j->failed = 1;
         }
     }
@@ -847,7 +910,7 @@ static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, siz
     uint32_t lx = UINT32_MAX, ly = 0, lz = 0;
     for (size_t i = 0; i < nout; i++) {
         cell c = cell_load(out, osize, i);
-        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1, 0};
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1, 0, VP_TOP_NONE};
         if (p.x == lx && p.y == ly && p.z == lz) continue;
         lx = p.x, ly = p.y, lz = p.z;
         n++;
@@ -859,7 +922,7 @@ static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, siz
     n = np;
     for (size_t i = 0; i < nout; i++) {
         cell c = cell_load(out, osize, i);
-        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1, 0xFF};
+        cell p = {c.x >> 1, c.y >> 1, (c.z & ~VALID_BIT) >> 1, 0xFF, VP_TOP_NONE};
         if (p.x == lx && p.y == ly && p.z == lz) continue;
         lx = p.x, ly = p.y, lz = p.z;
         if (classify(s, &p, level) == 2) p.z |= VALID_BIT;
@@ -877,6 +940,14 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
     memset(&j, 0, sizeof j);
     j.s = s;
     j.child_level = from_box ? 0 : s->level + 1;
+    /* top balls: spheres, once there are balls (solids' cells are dropped
+     * by inspheres, which seldom hold much of a cell); every exclusion
+     * radius rmin + r_j is in [emin, emax] */
+    memset(&s->top[j.child_level], 0, sizeof s->top[0]);
+    if (!from_box && !s->solid && s->p->count > 0)
+        s->top[j.child_level] =
+            vp_top_scale_make(s->rmin + s->min_r, s->rmin + s->max_r,
+                              0.5 * sqrt(3.0) * cell_side(s, j.child_level), s->coord_eps);
     j.from_box = from_box;
     j.psize = s->csize;
     j.osize = cell_bytes(s, j.child_level);
@@ -1001,12 +1072,23 @@ static void make_darts(void *user, size_t ci) {
         t->p[0] = s->origin[0] + ((double)c.x + u[0]) * a;
         t->p[1] = s->origin[1] + ((double)c.y + u[1]) * a;
         t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + u[2]) * a;
+        round_pos(s, t->p); /* as it would be stored */
         unsigned sub = (u[0] >= 0.5) | (u[1] >= 0.5) << 1 | (u[2] >= 0.5) << 2;
         if (!(c.mask >> sub & 1)) { /* a sub-cell proven empty: fails */
             t->d = HUGE_VAL;
             t->clr = 0.0;
             t->qready = 0;
             continue;
+        }
+        if (c.top != VP_TOP_NONE) { /* in the top ball: fails, without a neighbour query */
+            double m[3];
+            cell_center(s, &c, s->level, m);
+            if (vp_top_holds(&s->top[s->level], c.top, m, t->p)) {
+                t->d = HUGE_VAL;
+                t->clr = 0.0;
+                t->qready = 0;
+                continue;
+            }
         }
         t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
@@ -1023,7 +1105,7 @@ static void make_darts(void *user, size_t ci) {
     for (size_t k = lo; k < hi; k++) {
         const dart *t = &s->darts[k];
         if (t->d <= thr_ok(s, s->rmin))
-            vp_sgrid_prefetch_items(&s->g, t->p, t->p, s->rmax, s->p->positions);
+            vp_sgrid_prefetch_items(&s->g, t->p, t->p, s->rmax, s->fpos, 3 * sizeof *s->fpos);
     }
     for (size_t k = lo; k < hi; k++) {
         dart *t = &s->darts[k];
@@ -1037,12 +1119,13 @@ static void make_darts(void *user, size_t ci) {
 /* Radius particle i can grow to: the distance to the nearest other
  * sphere's surface and, with fit inside, to the wall. */
 static double grow_one(const rsa *s, size_t i, double diag) {
-    const double *x = s->p->positions + 3 * i;
+    double x[3];
+    ppos(s, i, x);
     double wall = HUGE_VAL;
     if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x);
     double reach = wall < HUGE_VAL ? wall : 4.0 * s->p->radii[i];
     for (;;) {
-        clr_query q = {s->p, s->uni_r, x, reach, -HUGE_VAL, 0, s->p->count, i};
+        clr_query q = {s, s->p, s->uni_r, x, reach, -HUGE_VAL, 0, s->p->count, i};
         vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
         if (q.best < reach) return q.best; /* exact: every closer surface was seen */
         if (reach >= wall || reach >= diag) return reach;
@@ -1055,7 +1138,8 @@ static double grow_one(const rsa *s, size_t i, double diag) {
  * tests. Scaling a convex solid about its centroid down keeps it inside
  * itself, so "fits" is monotone in the radius. */
 static double grow_solid(const rsa *s, size_t i, double diag) {
-    const double *x = s->p->positions + 3 * i;
+    double x[3];
+    ppos(s, i, x);
     double q[4];
     vp_quat_from_float(s->p->orients + 4 * i, q);
     double d = vp_container_distance(s->c, x);
@@ -1244,7 +1328,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 size_t nnew = s->p->count - s->n0;
                 if (nnew <= 24) {
                     for (size_t i = s->n0; i < s->p->count && good; i++) {
-                        const double *c = s->p->positions + 3 * i;
+                        double c[3];
+                        ppos(s, i, c);
                         double dx = t->p[0] - c[0], dy = t->p[1] - c[1], dz = t->p[2] - c[2];
                         double e = cur_r + s->p->radii[i];
                         if (dx * dx + dy * dy + dz * dz < e * e) good = 0;
@@ -1267,16 +1352,17 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 done = 1;
                 break;
             }
-            if (reserve(s->p, s->p->count + 1) != 0) {
+            if (reserve(s, s->p->count + 1) != 0) {
                 r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory at %zu particles",
                             s->p->count);
                 done = 1;
                 break;
             }
             size_t i = s->p->count++;
-            memcpy(s->p->positions + 3 * i, t->p, sizeof t->p);
+            store_pos(s, i, t->p); /* t->p is rounded: the same value back */
             s->p->radii[i] = (float)cur_r;
             if (cur_r > s->max_r) s->max_r = cur_r;
+            if (cur_r < s->min_r) s->min_r = cur_r;
             if (i == 0) s->uni_r = (float)cur_r;
             else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
             s->p->groups[i] = (uint16_t)pass_index;
@@ -1430,6 +1516,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
 
     rsa s;
     memset(&s, 0, sizeof s);
+    s.min_r = HUGE_VAL;
     s.ctx = ctx;
     s.c = c;
     s.fit = params->fit;
@@ -1480,7 +1567,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     vp_result r = vp_particles_create(ctx, 0, &s.p);
     if (r != VP_OK) return r;
     s.p->has_orient = s.solid;
-    if (reserve(s.p, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
+    for (int k = 0; k < 3; k++) s.base[k] = 0.5 * (ci->bmin[k] + ci->bmax[k]);
+    if (reserve(&s, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
+        free(s.fpos);
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
     }
@@ -1497,6 +1586,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0 ||
         vp_sgrid_reserve(&s.g, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
         vp_sgrid_free(&s.g);
+        free(s.fpos);
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory for the neighbour grid");
     }
@@ -1510,6 +1600,13 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     vp_sgrid_free(&s.g);
     free(s.cells);
     free(s.darts);
+    if (r == VP_OK) { /* the centres in world coordinates, as doubles */
+        s.p->positions = malloc((s.p->count ? s.p->count : 1) * 3 * sizeof *s.p->positions);
+        if (!s.p->positions) r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+        else
+            for (size_t i = 0; i < s.p->count; i++) ppos(&s, i, s.p->positions + 3 * i);
+    }
+    free(s.fpos);
     if (r != VP_OK) {
         vp_particles_destroy(s.p);
         return r;

@@ -110,7 +110,7 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r) {
  * the rows as vp_sgrid_query_box does; a shared row walker would put a
  * call per row on the query's hot path. */
 static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi[3],
-                          double reach, const double *positions) {
+                          double reach, const char *positions, size_t stride) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
         int64_t a[3], b[3];
@@ -127,7 +127,7 @@ static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi
                     uint32_t j = row[x];
                     if (j == VP_SGRID_NONE) continue;
                     __builtin_prefetch(g->next + j);
-                    __builtin_prefetch(positions + 3 * (size_t)j);
+                    __builtin_prefetch(positions + stride * (size_t)j);
                 }
             }
     }
@@ -135,12 +135,12 @@ static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi
 
 void vp_sgrid_prefetch_cells(const vp_sgrid *g, const double lo[3], const double hi[3],
                              double reach) {
-    prefetch_rows(g, lo, hi, reach, NULL);
+    prefetch_rows(g, lo, hi, reach, NULL, 0);
 }
 
 void vp_sgrid_prefetch_items(const vp_sgrid *g, const double lo[3], const double hi[3],
-                             double reach, const double *positions) {
-    prefetch_rows(g, lo, hi, reach, positions);
+                             double reach, const void *positions, size_t stride) {
+    prefetch_rows(g, lo, hi, reach, positions, stride);
 }
 
 size_t vp_sgrid_bytes(const vp_sgrid *g) {

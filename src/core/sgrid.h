@@ -76,14 +76,14 @@ static inline int vp_sgrid_query_box(const vp_sgrid *g, const double lo[3], cons
 /* Memory hints for a later vp_sgrid_query_box(g, lo, hi, reach, ...)
  * (lo = hi = p for vp_sgrid_query): the first
  * fetches the heads of the cells it will read, the second (once those
- * have arrived) the first particle of each, its link and its position in
- * `positions` (x, y, z per particle). Queries are latency-bound (cells
+ * have arrived) the first particle of each, its link and its data at
+ * `positions` + `stride` bytes times its index. Queries are latency-bound (cells
  * and particles are scattered in memory), so a caller with many
  * independent queries issues the hints for all of them first. */
 void vp_sgrid_prefetch_cells(const vp_sgrid *g, const double lo[3], const double hi[3],
                              double reach);
 void vp_sgrid_prefetch_items(const vp_sgrid *g, const double lo[3], const double hi[3],
-                             double reach, const double *positions);
+                             double reach, const void *positions, size_t stride);
 
 /* Bytes the grid holds. */
 size_t vp_sgrid_bytes(const vp_sgrid *g);
