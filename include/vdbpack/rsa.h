@@ -47,7 +47,8 @@ typedef struct vp_rsa_params {
     size_t npasses;
     uint64_t seed;
     size_t max_cells;          /* most active cells a refinement may make (memory:
-                                  4 to 12 bytes each); 0 = automatic, 32 x the
+                                  8 to 16 bytes each for spheres, 5 to 13 for
+                                  solids); 0 = automatic, 32 x the
                                   expected count of the pass (at least 65536) */
 } vp_rsa_params;
 void vp_rsa_params_init(vp_rsa_params *p);

@@ -12,6 +12,11 @@
  * cell is split in eight and the covered children dropped (the maximal
  * Poisson-disk sampling scheme of Ebeida et al. 2011/2012); when no cell is
  * left the pass is maximal: no centre of that radius fits anywhere.
+ * Each cell also records which of its eighths were proven empty (a mask)
+ * and one ball that holds much of it (its top ball, core/rsa_top.h), so
+ * that most failing darts fail without reading a neighbour. Centres are
+ * kept as floats while packing (half the memory a dart reads); a
+ * candidate is rounded to that float before its tests.
  *
  * Determinism: dart k of a pass draws its cell and position from its own
  * random stream (seed, pass, k). Darts are made and pre-tested (container,
