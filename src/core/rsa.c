@@ -948,11 +948,11 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
     /* top balls: spheres, once there are balls (solids' cells are dropped
      * by inspheres, which seldom hold much of a cell); every exclusion
      * radius rmin + r_j is in [emin, emax] */
-    memset(&s->top[j.child_level], 0, sizeof s->top[0]);
-    if (!from_box && !s->solid && s->p->count > 0)
-        s->top[j.child_level] =
-            vp_top_scale_make(s->rmin + s->min_r, s->rmin + s->max_r,
-                              0.5 * sqrt(3.0) * cell_side(s, j.child_level), s->coord_eps);
+    s->top[j.child_level] =
+        !from_box && !s->solid && s->p->count > 0
+            ? vp_top_scale_make(s->rmin + s->min_r, s->rmin + s->max_r,
+                                0.5 * sqrt(3.0) * cell_side(s, j.child_level), s->coord_eps)
+            : (vp_top_scale){0.0, 0.0};
     j.from_box = from_box;
     j.psize = s->csize;
     j.osize = cell_bytes(s, j.child_level);
@@ -1057,6 +1057,17 @@ typedef struct dart_job {
  * chunk one sweep before it is used: a dart is a chain of dependent cache misses, and the sweeps let
  * the misses of different darts overlap. Each dart draws from its own
  * stream in the same order as one sweep would (cell, position, rotation). */
+/* 1 when a dart at p in sub-cell `sub` of cell c is known to fail from
+ * the cell alone: that sub-cell was proven empty (the mask), or p lies in
+ * the cell's top ball. */
+static int dart_settled(const rsa *s, const cell *c, unsigned sub, const double p[3]) {
+    if (!(c->mask >> sub & 1)) return 1;
+    if (c->top == VP_TOP_NONE) return 0;
+    double m[3];
+    cell_center(s, c, s->level, m);
+    return vp_top_holds(&s->top[s->level], c->top, m, p);
+}
+
 static void make_darts(void *user, size_t ci) {
     dart_job *j = user;
     rsa *s = j->s;
@@ -1079,21 +1090,11 @@ static void make_darts(void *user, size_t ci) {
         t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + u[2]) * a;
         round_pos(s, t->p); /* as it would be stored */
         unsigned sub = (u[0] >= 0.5) | (u[1] >= 0.5) << 1 | (u[2] >= 0.5) << 2;
-        if (!(c.mask >> sub & 1)) { /* a sub-cell proven empty: fails */
+        if (dart_settled(s, &c, sub, t->p)) { /* fails, without a neighbour query */
             t->d = HUGE_VAL;
             t->clr = 0.0;
             t->qready = 0;
             continue;
-        }
-        if (c.top != VP_TOP_NONE) { /* in the top ball: fails, without a neighbour query */
-            double m[3];
-            cell_center(s, &c, s->level, m);
-            if (vp_top_holds(&s->top[s->level], c.top, m, t->p)) {
-                t->d = HUGE_VAL;
-                t->clr = 0.0;
-                t->qready = 0;
-                continue;
-            }
         }
         t->d = (c.z & VALID_BIT) ? -HUGE_VAL : vp_container_distance(s->c, t->p);
         t->clr = HUGE_VAL;
