@@ -1537,17 +1537,20 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.poly = vp_shape_polyhedron(params->shape);
     s.mesh = params->shape == VP_SHAPE_MESH ? params->mesh : NULL;
     s.solid = s.poly || s.mesh;
-    if (s.solid) {
-        s.rin = s.poly ? s.poly->inradius : s.mesh->inradius;
-        s.orient_random = params->orient == VP_ORIENT_RANDOM;
-        s.bbox = params->overlap == VP_OVERLAP_BBOX;
-        s.cube = params->shape == VP_SHAPE_CUBE && !s.bbox;
+    {
+        /* the solids' exact tests and the spheres' top balls allow for it */
         double L = 0.0;
         for (int k = 0; k < 3; k++) {
             if (fabs(ci->bmin[k]) > L) L = fabs(ci->bmin[k]);
             if (fabs(ci->bmax[k]) > L) L = fabs(ci->bmax[k]);
         }
         s.coord_eps = 64.0 * DBL_EPSILON * L;
+    }
+    if (s.solid) {
+        s.rin = s.poly ? s.poly->inradius : s.mesh->inradius;
+        s.orient_random = params->orient == VP_ORIENT_RANDOM;
+        s.bbox = params->overlap == VP_OVERLAP_BBOX;
+        s.cube = params->shape == VP_SHAPE_CUBE && !s.bbox;
         s.reach = 1.0;
         for (int k = 0; k < 3; k++) {
             s.bb_lo[k] = HUGE_VAL;
