@@ -6,6 +6,7 @@
  *  - useful: it holds for every point deeper than the rounding allows
  *    (a test that never held would pass the first check alone);
  *  - every ball that meets the cell is in range; codes are never NONE. */
+#include "core/rng.h"
 #include "core/rsa_top.h"
 #include "vp_test.h"
 
@@ -13,10 +14,7 @@
 #include <stdint.h>
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
-static double urand(void) {
-    rng_state ^= rng_state << 13; rng_state ^= rng_state >> 7; rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
-}
+static double urand(void) { return vp_rng_uniform(&rng_state); }
 
 /* One scale: cells of side a around `where`, balls of exclusion radius in
  * [emin, emax]. */

@@ -206,8 +206,6 @@ static inline void store_pos(rsa *s, size_t j, const double x[3]) {
 
 typedef struct clr_query {
     const rsa *s;
-    const vp_particles *p;
-    double ur;     /* every radius, or 0 */
     const double *x;
     double best;   /* min |x - c_j| - r_j so far */
     double stop;   /* stop as soon as best < stop */
@@ -222,7 +220,7 @@ static int clr_visit(void *user, uint32_t j) {
     double c[3];
     ppos(q->s, j, c);
     double dx = q->x[0] - c[0], dy = q->x[1] - c[1], dz = q->x[2] - c[2];
-    double r = q->ur > 0 ? q->ur : q->p->radii[j];
+    double r = q->s->uni_r > 0 ? q->s->uni_r : q->s->p->radii[j];
     double lim = q->best + r; /* only a closer surface matters */
     double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 >= lim * lim) return 0;
@@ -237,7 +235,7 @@ static int clr_visit(void *user, uint32_t j) {
  * packing: below stop the verdict does not depend on the order). */
 static double clearance(const rsa *s, const double x[3], double reach, double stop, size_t from,
                         size_t upto) {
-    clr_query q = {s, s->p, s->uni_r, x, reach, stop, from, upto, SIZE_MAX};
+    clr_query q = {s, x, reach, stop, from, upto, SIZE_MAX};
     vp_sgrid_query_near(&s->g, x, reach, clr_visit, &q);
     return q.best;
 }
@@ -599,19 +597,16 @@ static int classify(const rsa *s, const cell *c, int level) {
 
 typedef struct cover_query {
     const rsa *s;
-    const vp_particles *p;
-    double ur;
     const double *m;
     double half;
-    double rmin;
-    double rin;
 } cover_query;
 
 static int cover_visit(void *user, uint32_t j) {
     cover_query *q = user;
     double c[3];
     ppos(q->s, j, c);
-    double e = q->rin * (q->rmin + (q->ur > 0 ? q->ur : q->p->radii[j])), f = 0.0;
+    const rsa *s = q->s;
+    double e = s->rin * (s->rmin + (s->uni_r > 0 ? s->uni_r : s->p->radii[j])), f = 0.0;
     for (int k = 0; k < 3; k++) {
         double t = fabs(q->m[k] - c[k]) + q->half;
         f += t * t;
@@ -625,7 +620,7 @@ static int covered(const rsa *s, const cell *c, int level) {
     if (!s->p->count) return 0;
     double a = cell_side(s, level), m[3];
     cell_center(s, c, level, m);
-    cover_query q = {s, s->p, s->uni_r, m, 0.5 * a, s->rmin, s->rin};
+    cover_query q = {s, m, 0.5 * a};
     return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
 }
 
@@ -1051,12 +1046,6 @@ typedef struct dart_job {
     size_t chunk;
 } dart_job;
 
-/* Makes darts [lo, hi) of the batch in sweeps (cells; positions and the
- * neighbour grid's cells; the first particle of each grid cell; the
- * tests), so that the memory each dart needs is requested for the whole
- * chunk one sweep before it is used: a dart is a chain of dependent cache misses, and the sweeps let
- * the misses of different darts overlap. Each dart draws from its own
- * stream in the same order as one sweep would (cell, position, rotation). */
 /* 1 when a dart at p in sub-cell `sub` of cell c is known to fail from
  * the cell alone: that sub-cell was proven empty (the mask), or p lies in
  * the cell's top ball. */
@@ -1068,6 +1057,12 @@ static int dart_settled(const rsa *s, const cell *c, unsigned sub, const double 
     return vp_top_holds(&s->top[s->level], c->top, m, p);
 }
 
+/* Makes darts [lo, hi) of the batch in sweeps (cells; positions and the
+ * neighbour grid's cells; the first particle of each grid cell; the
+ * tests), so that the memory each dart needs is requested for the whole
+ * chunk one sweep before it is used: a dart is a chain of dependent cache misses, and the sweeps let
+ * the misses of different darts overlap. Each dart draws from its own
+ * stream in the same order as one sweep would (cell, position, rotation). */
 static void make_darts(void *user, size_t ci) {
     dart_job *j = user;
     rsa *s = j->s;
@@ -1131,7 +1126,7 @@ static double grow_one(const rsa *s, size_t i, double diag) {
     if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x);
     double reach = wall < HUGE_VAL ? wall : 4.0 * s->p->radii[i];
     for (;;) {
-        clr_query q = {s, s->p, s->uni_r, x, reach, -HUGE_VAL, 0, s->p->count, i};
+        clr_query q = {s, x, reach, -HUGE_VAL, 0, s->p->count, i};
         vp_sgrid_query(&s->g, x, reach, clr_visit, &q);
         if (q.best < reach) return q.best; /* exact: every closer surface was seen */
         if (reach >= wall || reach >= diag) return reach;
