@@ -2,7 +2,8 @@
 # .vdb containers of the awkward kinds a pipeline hands over, made here with
 # pyopenvdb (not vdbpack): a level set stored as half floats with an empty
 # grid name; a file with a fog volume before the level set (the level set is
-# found); and the level-set volume against the analytic sphere.
+# found); the level-set volume against the analytic sphere; and three
+# corrupt-looking trees (below).
 set -euo pipefail
 : "${VDBPACK:?}"
 PY=/usr/bin/python3
@@ -45,4 +46,43 @@ print("  ok: %s: level set, volume %.4f (4/3 pi = %.4f), %d spheres" % (sys.argv
 PY
 done
 grep -q '"grid":"surface"' s.json || die "fog_then_ls.vdb: did not pick the level set 'surface': $(cat s.json)"
+
+# Corrupt-looking trees (as a fuzzer made them): a sphere beside two outside
+# tiles 2^31 voxels apart, so the active bounding box spans 2^31 voxels a
+# side (the leak test walked its faces voxel by voxel: a hang); the same
+# with an inside tile on the far corner (it leaks; widening its band first
+# voxelized that tile's faces: 10 GB); and a sphere whose tree says it has
+# two buffers (OpenVDB writes a WARNING line to std::cerr).
+$PY - <<'PY'
+import pyopenvdb as vdb, struct
+ls = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
+bg = ls.background
+ls.fill((-(1 << 30),) * 3, (-(1 << 30) + 4095,) * 3, bg, active=True)
+ls.fill(((1 << 30),) * 3, ((1 << 30) + 4095,) * 3, bg, active=True)
+vdb.write("far_closed.vdb", grids=[ls])
+ls.fill(((1 << 30),) * 3, ((1 << 30) + 4095,) * 3, -bg, active=True)
+vdb.write("far_leaky.vdb", grids=[ls])
+s = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
+vdb.write("plain.vdb", grids=[s])
+d = bytearray(open("plain.vdb", "rb").read())
+one = struct.pack("<if", 1, s.background)  # the tree's buffer count, then its background
+assert d.count(one) == 1, d.count(one)
+i = d.find(one)
+d[i:i + 4] = struct.pack("<i", 2)
+open("two_buffers.vdb", "wb").write(d)
+PY
+for f in far_closed two_buffers; do
+  rc=0; timeout 120 "$VDBPACK" pack "$f.vdb" --radius 0.1 -o out.vdb --json >s.json 2>s.err || rc=$?
+  [ "$rc" = 0 ] || die "$f.vdb: exit $rc: $(head -c 300 s.err)"
+  [ ! -s s.err ] || die "$f.vdb: wrote to stderr: $(head -c 300 s.err)"
+  $PY -c 'import json,math,sys; v=json.load(open("s.json"))["container_volume"]; t=4/3*math.pi
+assert abs(v-t) < 0.02*t, v' || die "$f.vdb: wrong container volume"
+  echo "  ok: $f.vdb: packed, nothing on stderr"
+done
+rm -f out.vdb
+rc=0; timeout 120 "$VDBPACK" pack far_leaky.vdb --radius 0.1 -o out.vdb >/dev/null 2>s.err || rc=$?
+[ "$rc" = 1 ] || die "far_leaky.vdb: exit $rc (124: timed out): $(head -c 300 s.err)"
+[ "$(wc -l <s.err)" = 1 ] && grep -q "leaks" s.err || die "far_leaky.vdb: not one line about a leak: $(cat s.err)"
+[ ! -e out.vdb ] || die "far_leaky.vdb: wrote an output file"
+echo "  ok: far_leaky.vdb: $(cat s.err)"
 echo "PASS: sh_levelset_inputs"

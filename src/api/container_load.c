@@ -54,25 +54,34 @@ static int looks_like_vdb(const char *path) {
     return got == 4 && m[0] == 0x20 && m[1] == 0x42 && m[2] == 0x44 && m[3] == 0x56;
 }
 
-/* Wraps a level set into a container after the sanity checks. */
-static vp_result finish_levelset(vp_context *ctx, const char *path, vpv_levelset *ls,
-                                 vp_container_info *info, vp_container **out) {
-    vpv_levelset_info li;
-    vpv_levelset_get_info(ls, &li);
-    if (li.leaked) {
+/* The sanity checks of a level set: VP_OK, or the failure (ls is then
+ * destroyed). */
+static vp_result check_levelset(vp_context *ctx, const char *path, vpv_levelset *ls,
+                                const vpv_levelset_info *li, vp_container_kind kind) {
+    if (li->leaked) {
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                        "%s: the inside of the level set reaches its bounding box (it leaks: "
                        "the surface is probably open), refusing to pack it", vp_path_base(path));
     }
-    if (li.inside_voxels == 0 || !(li.volume > 0)) {
+    if (li->inside_voxels == 0 || !(li->volume > 0)) {
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                        "%s: the level set has an empty inside (no voxel below zero%s)",
                        vp_path_base(path),
-                       info->kind == VP_CONTAINER_MESH ? "; is the mesh thinner than a voxel? "
-                                                         "try a smaller --voxel-size" : "");
+                       kind == VP_CONTAINER_MESH ? "; is the mesh thinner than a voxel? "
+                                                   "try a smaller --voxel-size" : "");
     }
+    return VP_OK;
+}
+
+/* Wraps a level set into a container after the sanity checks. */
+static vp_result finish_levelset(vp_context *ctx, const char *path, vpv_levelset *ls,
+                                 vp_container_info *info, vp_container **out) {
+    vpv_levelset_info li;
+    vpv_levelset_get_info(ls, &li);
+    vp_result bad = check_levelset(ctx, path, ls, &li, info->kind);
+    if (bad != VP_OK) return bad;
     memcpy(info->bmin, li.bmin, sizeof info->bmin);
     memcpy(info->bmax, li.bmax, sizeof info->bmax);
     info->volume = li.volume;
@@ -261,6 +270,10 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
     snprintf(info.voxel_reason, sizeof info.voxel_reason, "from the level set in the file");
     vpv_levelset_info li;
     vpv_levelset_get_info(ls, &li);
+    /* before widening the band: the rebuild of a leaking level set can
+     * voxelize the faces of a huge inside tile (a corrupt file took 10 GB) */
+    vp_result bad = check_levelset(ctx, path, ls, &li, info.kind);
+    if (bad != VP_OK) return bad;
     double radius = pp->particle_radius;
     if (!(radius > 0) && pp->particle_count > 0 && li.volume > 0)
         radius = estimate_radius(li.volume, pp);

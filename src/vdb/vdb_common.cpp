@@ -1,9 +1,9 @@
 // Shared plumbing of the C++ layer: initialisation, messages, exception
 // mapping, file checks, metadata and deterministic output.
 // OpenVDB's own log messages (log4cplus, e.g. "WARN: f.vdb has more than one
-// grid named ...") would be a second, uncoloured-by-us line on stderr: this
-// file turns them off; vdbpack reports every problem itself.
-#define OPENVDB_USE_LOG4CPLUS 1
+// grid named ...") would be a second line on stderr: vpv_init turns them
+// off; vdbpack reports every problem itself. (CMakeLists.txt defines
+// OPENVDB_USE_LOG4CPLUS for every file of this layer.)
 #include "vdb/vdb_internal.hpp"
 
 #include <openvdb/util/logging.h>

@@ -41,6 +41,48 @@ double interior_band(const openvdb::FloatGrid &g)
     return std::max(0.0, -double(mn));
 }
 
+// The leak test: is any voxel on a face of bb (the active voxels' bounding
+// box) inside (< 0)? It walks the tiles and leaves that touch a face, never
+// a face voxel by voxel: a corrupt file's bounding box can span 2^32 voxels
+// a side (a fuzzed file hung the voxel loop this replaces, 2026-11-24).
+// Voxels that no node holds read as the background, inside only if it is
+// negative.
+int leaks(const openvdb::FloatTree &t, const openvdb::CoordBBox &bb)
+{
+    if (t.background() < 0.0f) return 1;
+    // the part of nb inside bb, when it reaches one of bb's faces
+    auto on_face = [&bb](const openvdb::CoordBBox &nb, openvdb::CoordBBox &c) {
+        c = nb;
+        c.intersect(bb);
+        if (c.empty()) return false;
+        for (int a = 0; a < 3; ++a)
+            if (c.min()[a] == bb.min()[a] || c.max()[a] == bb.max()[a]) return true;
+        return false;
+    };
+    openvdb::CoordBBox c;
+    auto tile = t.cbeginValueAll();
+    tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1); // tiles only
+    for (; tile; ++tile) {
+        if (*tile >= 0.0f) continue;
+        openvdb::CoordBBox tb;
+        tile.getBoundingBox(tb);
+        if (on_face(tb, c)) return 1;
+    }
+    for (auto leaf = t.cbeginLeaf(); leaf; ++leaf) {
+        if (!on_face(leaf->getNodeBoundingBox(), c)) continue;
+        for (int i = c.min().x(); i <= c.max().x(); ++i)
+            for (int j = c.min().y(); j <= c.max().y(); ++j)
+                for (int k = c.min().z(); k <= c.max().z(); ++k) {
+                    const openvdb::Coord ijk(i, j, k);
+                    bool face = false;
+                    for (int a = 0; a < 3; ++a)
+                        face = face || ijk[a] == bb.min()[a] || ijk[a] == bb.max()[a];
+                    if (face && leaf->getValue(ijk) < 0.0f) return 1;
+                }
+    }
+    return 0;
+}
+
 } // namespace
 
 extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, char *err,
@@ -137,25 +179,7 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
             info->volume = double(inside) * vs[0] * vs[1] * vs[2];
         }
 
-        // Leak test: any voxel on a face of the active bbox inside?
-        openvdb::FloatGrid::ConstAccessor acc = g.getConstAccessor();
-        const openvdb::Coord lo = bb.min(), hi = bb.max();
-        int leaked = 0;
-        for (int axis = 0; axis < 3 && !leaked; ++axis) {
-            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            for (int side = 0; side < 2 && !leaked; ++side) {
-                openvdb::Coord ijk;
-                ijk[axis] = side ? hi[axis] : lo[axis];
-                for (int i = lo[u]; i <= hi[u] && !leaked; ++i) {
-                    ijk[u] = i;
-                    for (int j = lo[v]; j <= hi[v]; ++j) {
-                        ijk[v] = j;
-                        if (acc.getValue(ijk) < 0.0f) { leaked = 1; break; }
-                    }
-                }
-            }
-        }
-        info->leaked = leaked;
+        info->leaked = leaks(t, bb);
     } catch (...) {
         // get_info cannot report errors; leave what was filled.
     }
