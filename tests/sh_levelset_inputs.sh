@@ -51,8 +51,10 @@ grep -q '"grid":"surface"' s.json || die "fog_then_ls.vdb: did not pick the leve
 # tiles 2^31 voxels apart, so the active bounding box spans 2^31 voxels a
 # side (the leak test walked its faces voxel by voxel: a hang); the same
 # with an inside tile on the far corner (it leaks; widening its band first
-# voxelized that tile's faces: 10 GB); and a sphere whose tree says it has
-# two buffers (OpenVDB writes a WARNING line to std::cerr).
+# voxelized that tile's faces: 10 GB); the same tile moved inside the box
+# (closed, but a band 50 voxels deep over its faces would take 69 GB); and
+# a sphere whose tree says it has two buffers (OpenVDB writes a WARNING
+# line to std::cerr).
 $PY - <<'PY'
 import pyopenvdb as vdb, struct
 ls = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
@@ -62,6 +64,9 @@ ls.fill(((1 << 30),) * 3, ((1 << 30) + 4095,) * 3, bg, active=True)
 vdb.write("far_closed.vdb", grids=[ls])
 ls.fill(((1 << 30),) * 3, ((1 << 30) + 4095,) * 3, -bg, active=True)
 vdb.write("far_leaky.vdb", grids=[ls])
+ls.fill(((1 << 30),) * 3, ((1 << 30) + 4095,) * 3, bg, active=True)
+ls.fill((100000,) * 3, (100000 + 4095,) * 3, -bg, active=True)
+vdb.write("mid_cube.vdb", grids=[ls])
 s = vdb.createLevelSetSphere(radius=1.0, voxelSize=0.02)
 vdb.write("plain.vdb", grids=[s])
 d = bytearray(open("plain.vdb", "rb").read())
@@ -85,4 +90,12 @@ rc=0; timeout 120 "$VDBPACK" pack far_leaky.vdb --radius 0.1 -o out.vdb >/dev/nu
 [ "$(wc -l <s.err)" = 1 ] && grep -q "leaks" s.err || die "far_leaky.vdb: not one line about a leak: $(cat s.err)"
 [ ! -e out.vdb ] || die "far_leaky.vdb: wrote an output file"
 echo "  ok: far_leaky.vdb: $(cat s.err)"
+# an inside tile of 4096^3 voxels that meets the outside, closed: widening
+# its interior band for radius 1 (50 voxels) ran for minutes in 10 GB; the
+# loader's estimate now refuses it first (--max-memory: whatever the RAM)
+rc=0; timeout 120 "$VDBPACK" pack mid_cube.vdb --radius 1 --max-memory 16G -o out.vdb >/dev/null 2>s.err || rc=$?
+[ "$rc" = 1 ] || die "mid_cube.vdb: exit $rc (124: timed out): $(head -c 300 s.err)"
+[ "$(wc -l <s.err)" = 1 ] && grep -q "interior band" s.err || die "mid_cube.vdb: not one line about the band: $(cat s.err)"
+[ ! -e out.vdb ] || die "mid_cube.vdb: wrote an output file"
+echo "  ok: mid_cube.vdb: $(cat s.err)"
 echo "PASS: sh_levelset_inputs"

@@ -39,7 +39,10 @@ typedef struct vpv_levelset_info {
                               values included (they hold the band) */
     size_t active_voxels;
     size_t inside_voxels;  /* active voxels < 0 (tiles counted by voxel) */
-    double volume;         /* world volume inside (OpenVDB level-set measure) */
+    double volume;         /* world volume inside (OpenVDB level-set measure, or
+                              the inside voxels' when larger) */
+    double surface_voxels; /* about how many voxels the zero crossing covers
+                              (what a rebuild's cost scales with) */
     int leaked;            /* 1: some voxel on a face of the active bbox is < 0,
                               i.e. the inside reaches the grid's boundary */
     char name[128];

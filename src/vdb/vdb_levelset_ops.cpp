@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 using namespace vpv;
@@ -81,6 +82,40 @@ int leaks(const openvdb::FloatTree &t, const openvdb::CoordBBox &bb)
                 }
     }
     return 0;
+}
+
+// About how many voxels the zero crossing covers, for the cost of a
+// rebuild: 64 a leaf (a leaf the surface crosses holds about one 8x8 sheet
+// of it), plus each face of an inside tile (value < 0, active or not) whose
+// neighbour just beyond the face's centre is outside (>= 0). The inside
+// tiles of a narrow-band level set meet only its band or other inside
+// tiles and add nothing; a hand-made or corrupt file's tile that meets the
+// outside adds its faces (a 4096^3 one: 1e8 voxels).
+double surface_voxels(const openvdb::FloatTree &t)
+{
+    double s = 64.0 * double(t.leafCount());
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree> acc(t);
+    auto tile = t.cbeginValueAll();
+    tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1); // tiles only
+    for (; tile; ++tile) {
+        if (!(*tile < 0.0f)) continue;
+        openvdb::CoordBBox b;
+        tile.getBoundingBox(b);
+        const openvdb::Coord d = b.dim();
+        for (int a = 0; a < 3; ++a) {
+            const int u = (a + 1) % 3, v = (a + 2) % 3;
+            for (int side = 0; side < 2; ++side) {
+                const int64_t at = side ? int64_t(b.max()[a]) + 1 : int64_t(b.min()[a]) - 1;
+                if (at < INT32_MIN || at > INT32_MAX) continue; // nothing beyond the index space
+                openvdb::Coord p;
+                p[a] = int32_t(at);
+                p[u] = int32_t((int64_t(b.min()[u]) + b.max()[u]) / 2);
+                p[v] = int32_t((int64_t(b.min()[v]) + b.max()[v]) / 2);
+                if (acc.getValue(p) >= 0.0f) s += double(d[u]) * double(d[v]);
+            }
+        }
+    }
+    return s;
 }
 
 } // namespace
@@ -172,12 +207,17 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
             if (*tile < 0.0f) inside += size_t(tile.getVoxelCount());
         info->inside_voxels = inside;
 
+        // levelSetVolume measures the surface in the leaves: an inside tile
+        // that meets the outside (surface_voxels) is not in it, so the
+        // inside voxels, a lower bound, count too
+        const openvdb::Vec3d vs = xf.voxelSize();
+        info->volume = double(inside) * vs[0] * vs[1] * vs[2];
         try {
-            info->volume = double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true));
+            info->volume = std::max(
+                info->volume, double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)));
         } catch (...) {
-            const openvdb::Vec3d vs = xf.voxelSize();
-            info->volume = double(inside) * vs[0] * vs[1] * vs[2];
         }
+        info->surface_voxels = surface_voxels(t);
 
         info->leaked = leaks(t, bb);
     } catch (...) {
