@@ -216,6 +216,7 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
             info->volume = std::max(
                 info->volume, double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)));
         } catch (...) {
+            // (non-cubic voxels and the like: the inside voxels' volume stands)
         }
         info->surface_voxels = surface_voxels(t);
 
