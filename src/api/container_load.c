@@ -292,28 +292,21 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
     if (radius > 0) {
         double depth = pp->narrow_band ? 1.02 * radius + 0.9 * li.voxel_size
                                        : 1.25 * radius + li.voxel_size;
-        if (li.interior_band < depth) {
-            /* the rebuild that widens the band: narrow-band voxels as for a
-             * mesh (surface x band widths, as vpv_levelset_ensure_interior
-             * sets them, at most the whole inside plus the outer band), at
-             * 12 bytes each. A tile of 4096^3 voxels meeting the outside (a
-             * hand-made or corrupt file) made it run for minutes in 10 GB. */
-            double v = li.voxel_size, ex = li.background / v > 3 ? li.background / v : 3;
-            double in = ceil(depth / v) + 2;
-            double voxels = li.surface_voxels * (in + ex);
-            double most = li.volume / (v * v * v) + li.surface_voxels * ex;
-            if (voxels > most) voxels = most;
-            if (voxels * 12.0 + bytes > (double)limit) {
-                char a[32], b[32];
-                vp_format_bytes(voxels * 12.0 + bytes, a, sizeof a);
-                vp_format_bytes((double)limit, b, sizeof b);
-                vpv_levelset_destroy(ls);
-                return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
-                               "%s: widening the level set's interior band to %g for particles of "
-                               "radius %g needs an estimated %s of memory, more than the limit "
-                               "of %s; use smaller particles", vp_path_base(path), depth, radius,
-                               a, b);
-            }
+        /* the rebuild that widens the band, at 12 bytes a voxel as for a
+         * mesh: a tile of 4096^3 voxels meeting the outside (a hand-made or
+         * corrupt file) made it run for minutes in 10 GB */
+        double v = li.voxel_size;
+        double voxels = vpv_levelset_rebuild_voxels(ls, depth, li.volume / (v * v * v));
+        if (voxels * 12.0 + bytes > (double)limit) {
+            char a[32], b[32];
+            vp_format_bytes(voxels * 12.0 + bytes, a, sizeof a);
+            vp_format_bytes((double)limit, b, sizeof b);
+            vpv_levelset_destroy(ls);
+            return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                           "%s: widening the level set's interior band to %g for particles of "
+                           "radius %g needs an estimated %s of memory, more than the limit "
+                           "of %s; use smaller particles", vp_path_base(path), depth, radius,
+                           a, b);
         }
         rc = vpv_levelset_ensure_interior(ls, depth, err, sizeof err);
         if (rc != VP_OK) {

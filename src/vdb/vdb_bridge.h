@@ -41,8 +41,6 @@ typedef struct vpv_levelset_info {
     size_t inside_voxels;  /* active voxels < 0 (tiles counted by voxel) */
     double volume;         /* world volume inside (OpenVDB level-set measure, or
                               the inside voxels' when larger) */
-    double surface_voxels; /* about how many voxels the zero crossing covers
-                              (what a rebuild's cost scales with) */
     int leaked;            /* 1: some voxel on a face of the active bbox is < 0,
                               i.e. the inside reaches the grid's boundary */
     char name[128];
@@ -80,6 +78,14 @@ int vpv_levelset_read(const char *path, const char *grid_name,
  * with a wide enough interior band. */
 int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth,
                                  char *err, size_t errlen);
+
+/* About how many voxels the rebuild of vpv_levelset_ensure_interior(ls,
+ * in_depth) makes: 0 when none is needed; otherwise the surface's voxels
+ * (64 a leaf, plus the faces of inside tiles that meet the outside) times
+ * the band widths, at most inside_voxels plus the outer band. Never fails
+ * (0 on error). */
+double vpv_levelset_rebuild_voxels(const vpv_levelset *ls, double in_depth,
+                                   double inside_voxels);
 
 void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info);
 

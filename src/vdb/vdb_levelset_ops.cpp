@@ -118,6 +118,16 @@ double surface_voxels(const openvdb::FloatTree &t)
     return s;
 }
 
+// The band widths, in voxels, of the rebuild that makes values distances
+// to in_depth inside: interior (want) and exterior (ex). One definition for
+// the rebuild and for the estimate of its cost.
+void band_widths(const openvdb::FloatGrid &g, double voxel, double in_depth, double &want,
+                 double &ex)
+{
+    want = std::ceil(in_depth / voxel) + 2.0;
+    ex = std::max(3.0, double(g.background()) / voxel);
+}
+
 } // namespace
 
 extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, char *err,
@@ -142,12 +152,12 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
                         "level set '%s': voxels are not cubes; cannot widen its interior band",
                         name.c_str());
         const double voxel = ls->voxel;
-        const double want = std::ceil(in_depth / voxel) + 2.0;
+        double want, ex;
+        band_widths(g, voxel, in_depth, want, ex);
         if (!std::isfinite(want) || want > 1e6)
             return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
                         "level set '%s': interior depth %g is %g voxels, too many", name.c_str(),
                         in_depth, want);
-        const double ex = std::max(3.0, double(g.background()) / voxel);
         openvdb::FloatGrid::Ptr ng =
             openvdb::tools::levelSetRebuild(g, 0.0f, float(ex), float(want));
         ng->setName(name);
@@ -157,6 +167,22 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
         ls->ensured_depth = in_depth;
         return VP_OK;
     });
+}
+
+extern "C" double vpv_levelset_rebuild_voxels(const vpv_levelset *ls, double in_depth,
+                                              double inside_voxels)
+{
+    if (!ls || !ls->grid || !(in_depth > 0.0) || in_depth <= ls->ensured_depth) return 0.0;
+    try {
+        const openvdb::FloatGrid &g = *ls->grid;
+        if (interior_band(g) >= in_depth) return 0.0;
+        double want, ex;
+        band_widths(g, ls->voxel, in_depth, want, ex);
+        const double surface = surface_voxels(g.tree());
+        return std::min(surface * (want + ex), inside_voxels + surface * ex);
+    } catch (...) {
+        return 0.0; // (the rebuild itself then reports what is wrong)
+    }
 }
 
 extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info)
@@ -218,7 +244,6 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
         } catch (...) {
             // (non-cubic voxels and the like: the inside voxels' volume stands)
         }
-        info->surface_voxels = surface_voxels(t);
 
         info->leaked = leaks(t, bb);
     } catch (...) {
