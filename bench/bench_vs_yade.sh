@@ -12,6 +12,10 @@
 #     --target-fraction 0.62` in sphere:20 at radius 1. With --triaxial also
 #     Yade's default, non-periodic route (spheresInCell=0: a triaxial test whose
 #     internal compaction grows the radii, so its r is not the r asked).
+#  3. Dense packing of N spheres in the unit box (issue 3's
+#     relax case at SCALE 0.1): vdbpack `--method relax --count N
+#     --target-fraction 0.62`; Yade: randomDensePack(inAlignedBox, radius =
+#     the radius relax starts from, spheresInCell=2000), as in case 2.
 # Yade's figures are what it returns: its spheres are read back from the
 # SpherePack (count, radii, the farthest reach from the container's centre
 # or outside the box), and its time is its call alone, without Yade's start.
@@ -20,8 +24,8 @@
 # Usage: bash bench/bench_vs_yade.sh [SCALE] [--no-dense] [--triaxial]
 #   SCALE defaults to 0.1: Yade's makeCloud time grows about as N^2 here
 #   (1e4 in 0.54 s, 1e5 in 47 s), so SCALE 1 would take it hours.
-#   Case 2 takes Yade about 10 s (4 minutes more with --triaxial); --no-dense
-#   skips it.
+#   Cases 2 and 3 take about a minute (4 more with --triaxial); --no-dense
+#   skips them.
 # If yade is missing and this runs as root, it is installed with apt-get.
 # No pass/fail: figures and ratios are printed for the notes.
 set -euo pipefail
@@ -68,6 +72,16 @@ if case == "cloud":
     for c, rr in sp:
         for k in range(3):
             out = max(out, rr - c[k], c[k] + rr - 1.0)
+elif case == "box":
+    r = float(sys.argv[2])
+    t = time.time()
+    sp = pack.randomDensePack(pack.inAlignedBox((-0.5, -0.5, -0.5), (0.5, 0.5, 0.5)), radius=r,
+                              rRelFuzz=0, spheresInCell=2000, returnSpherePack=True, seed=1)
+    dt = time.time() - t
+    vol, out = 1.0, 0.0
+    for c, rr in sp:
+        for k in range(3):
+            out = max(out, abs(c[k]) + rr - 0.5)
 else:
     R, r = 20.0, 1.0
     t = time.time()
@@ -141,4 +155,11 @@ if [ "$DENSE" = 1 ]; then
     y=$(yade_run triaxial)
     report "2b. the same, Yade's non-periodic route (its compaction grows the radii)" "$v" "$y"
   fi
+  read -r NB RB < <(python3 -c "
+import math
+n = int(round(1e6 * float('$SCALE')))
+print(n, repr((0.62 / (n * 4.0 / 3.0 * math.pi)) ** (1 / 3)))")
+  v=$(vdbpack_run box:1,1,1 --method relax --radius 1 --count "$NB" --target-fraction 0.62)
+  y=$(yade_run box "$RB")
+  report "3. dense, unit box: vdbpack relax $NB at target 0.62 (r = $RB before relaxing)" "$v" "$y"
 fi
