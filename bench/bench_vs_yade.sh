@@ -41,20 +41,22 @@ for a in "$@"; do
     *) SCALE=$a ;;
   esac
 done
-[ -x "$VDBPACK" ] || { echo "bench_vs_yade: $VDBPACK not built (bash scripts/setup.sh)"; exit 1; }
+if ! [[ "$SCALE" =~ ^[0-9]*\.?[0-9]+([eE][-+]?[0-9]+)?$ ]] || ! python3 -c "assert float('$SCALE') > 0" 2>/dev/null; then
+  echo "bench_vs_yade: SCALE must be a positive number, not '$SCALE'" >&2; exit 2
+fi
+[ -x "$VDBPACK" ] || { echo "bench_vs_yade: $VDBPACK not built (bash scripts/setup.sh)" >&2; exit 1; }
 if ! command -v yade >/dev/null; then
   if [ "$(id -u)" = 0 ]; then
     echo "bench_vs_yade: installing yade (apt-get, about 130 MB)"
     DEBIAN_FRONTEND=noninteractive apt-get install -y -q yade >/dev/null
   else
-    echo "bench_vs_yade: yade not found (apt-get install yade)"; exit 1
+    echo "bench_vs_yade: yade not found (apt-get install yade)" >&2; exit 1
   fi
 fi
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 read -r N R < <(python3 -c "
 s = float('$SCALE')
-assert s > 0
 print(int(round(1e6 * s)), repr(0.0043 / s ** (1 / 3)))")
 
 # Yade's side: one script, the case in argv; prints one JSON line.
@@ -108,7 +110,7 @@ print("RESULT " + json.dumps({"count": len(radii), "fraction": solid / vol, "sec
 EOF
 
 yade_run() { # case args... -> JSON on stdout
-  yade -n -x "$tmp/yade_case.py" "$@" > "$tmp/yade.log" 2>&1 || { echo "yade failed:"; tail -5 "$tmp/yade.log"; exit 1; }
+  yade -n -x "$tmp/yade_case.py" "$@" > "$tmp/yade.log" 2>&1 || { echo "yade failed:" >&2; tail -5 "$tmp/yade.log" >&2; exit 1; }
   grep '^RESULT ' "$tmp/yade.log" | sed 's/^RESULT //'
 }
 vdbpack_run() { # container, args... -> JSON (pack's, with wall seconds and check's verdict)
@@ -118,14 +120,14 @@ vdbpack_run() { # container, args... -> JSON (pack's, with wall seconds and chec
   "$VDBPACK" pack "$cont" "$@" --seed 1 -o "$tmp/v.vdb" --json > "$tmp/v.json"
   t1=$(date +%s.%N)
   "$VDBPACK" check "$tmp/v.vdb" --container "$cont" --json > "$tmp/c.json" || {
-    echo "vdbpack check failed:"; cat "$tmp/c.json"; exit 1; }
+    echo "vdbpack check failed:" >&2; cat "$tmp/c.json" >&2; exit 1; }
   python3 -c "
 import json
 p = json.load(open('$tmp/v.json')); c = json.load(open('$tmp/c.json'))
 p['wall'] = $t1 - $t0; p['check'] = c
 print(json.dumps(p))"
 }
-report() { # label, vdbpack JSON, yade JSON, container/r note
+report() { # label, vdbpack JSON, yade JSON
   python3 - "$1" "$2" "$3" <<'EOF'
 import json, sys
 label, v, y = sys.argv[1], json.loads(sys.argv[2]), json.loads(sys.argv[3])
