@@ -293,6 +293,7 @@ void refresh_levelset(vpv_levelset &ls)
 {
     ls.gen = next_generation();
     ls.ensured_depth = 0.0;
+    ls.band = -1.0;
     const openvdb::math::Transform &xf = ls.grid->transform();
     openvdb::Vec3d vs = xf.voxelSize();
     ls.voxel = std::min(vs[0], std::min(vs[1], vs[2]));

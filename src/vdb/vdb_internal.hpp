@@ -23,6 +23,8 @@ struct vpv_levelset {
     openvdb::math::Mat4d w2i;   // row-vector convention (v * M)
     double voxel = 1.0;         // smallest voxel edge (world)
     double ensured_depth = 0.0; // ensure_interior already satisfied to this depth
+    mutable double band = -1.0; // interior band of grid (a walk of every voxel),
+                                // measured on first use; -1: not yet
 };
 
 namespace vpv {

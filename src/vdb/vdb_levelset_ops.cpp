@@ -118,6 +118,20 @@ double surface_voxels(const openvdb::FloatTree &t)
     return s;
 }
 
+// interior_band of ls's grid, measured once per grid: the loader's
+// get_info, its estimate of a rebuild's cost and ensure_interior all ask.
+double band_of(const vpv_levelset &ls)
+{
+    if (ls.band < 0.0) ls.band = interior_band(*ls.grid);
+    return ls.band;
+}
+
+// True when ensure_interior(ls, in_depth) has nothing to rebuild.
+bool deep_enough(const vpv_levelset &ls, double in_depth)
+{
+    return in_depth <= 0.0 || in_depth <= ls.ensured_depth || band_of(ls) >= in_depth;
+}
+
 // The band widths, in voxels, of the rebuild that makes values distances
 // to in_depth inside: interior (want) and exterior (ex). One definition for
 // the rebuild and for the estimate of its cost.
@@ -138,13 +152,12 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
         return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_ensure_interior: no level set");
     if (std::isnan(in_depth))
         return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "interior depth is not a number");
-    if (in_depth <= 0.0 || in_depth <= ls->ensured_depth) return VP_OK;
     vpv_init();
     const std::string name = ls->grid->getName();
     return guard(name.c_str(), Op::Compute, err, errlen, [&]() -> int {
         openvdb::FloatGrid &g = *ls->grid;
-        if (interior_band(g) >= in_depth) {
-            ls->ensured_depth = in_depth;
+        if (deep_enough(*ls, in_depth)) {
+            ls->ensured_depth = std::max(ls->ensured_depth, in_depth);
             return VP_OK;
         }
         if (!g.hasUniformVoxels())
@@ -172,10 +185,10 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
 extern "C" double vpv_levelset_rebuild_voxels(const vpv_levelset *ls, double in_depth,
                                               double inside_voxels)
 {
-    if (!ls || !ls->grid || !(in_depth > 0.0) || in_depth <= ls->ensured_depth) return 0.0;
+    if (!ls || !ls->grid || std::isnan(in_depth)) return 0.0;
     try {
         const openvdb::FloatGrid &g = *ls->grid;
-        if (interior_band(g) >= in_depth) return 0.0;
+        if (deep_enough(*ls, in_depth)) return 0.0;
         double want, ex;
         band_widths(g, ls->voxel, in_depth, want, ex);
         const double surface = surface_voxels(g.tree());
@@ -199,7 +212,7 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
         info->background = std::fabs(double(g.background()));
         info->active_voxels = size_t(t.activeVoxelCount());
         if (info->active_voxels == 0) return;
-        info->interior_band = interior_band(g);
+        info->interior_band = band_of(*ls);
 
         const openvdb::CoordBBox bb = g.evalActiveVoxelBoundingBox();
         for (int a = 0; a < 3; ++a) {
