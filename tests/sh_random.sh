@@ -69,13 +69,15 @@ import json; d = json.load(open('relax.json'))
 assert d['max_overlap'] <= 1e-6, d['max_overlap']
 assert 0 < d['radius_scale'] <= 1, d['radius_scale']
 print('  ok: relax: largest overlap %.2g <= 1e-6, radii scaled by %.4f' % (d['max_overlap'], d['radius_scale']))" || die relax-json
-# retry limit: far more than fit, stops by retries
-"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.2 --count 500 --retries 200 -o full.vdb --json >full.json 2>full.err ||
-  die "impossible count must still pack what fits: $(cat full.err)"
+# retry limit: more than fit (20 spheres of radius 0.2 are 0.67 of the box,
+# under the 0.7405 that would refuse them, but far over what RSA reaches),
+# stops by retries
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.2 --count 20 --retries 200 -o full.vdb --json >full.json 2>full.err ||
+  die "a count over what fits must still pack what fits: $(cat full.err)"
 "$PY" -c "
 import json; p = json.load(open('full.json'))['passes'][0]
-assert p['stop'] == 'retries' and 0 < p['placed'] < 500, p
-print('  ok: count 500 of radius 0.2 in a unit box: placed %d, stopped by retries' % p['placed'])" || die retries
+assert p['stop'] == 'retries' and 0 < p['placed'] < 20, p
+print('  ok: count 20 of radius 0.2 in a unit box: placed %d, stopped by retries' % p['placed'])" || die retries
 # same seed, same file; another seed, another file
 # (the command line is file metadata: same command in t1/ and t2/, threads
 # from the environment)
@@ -126,6 +128,42 @@ bad 2 "shape" box:1,1,1 --method rsa --orient fixed --radius 0.1 --count 10
 bad 2 "orient" box:1,1,1 --method rsa --shape cube --orient sideways --radius 0.1 --count 10
 bad 1 "radius" box:1,1,1 --method rsa --radius 2 --count 10
 bad 1 "" box:1,1,1 --method relax --radius 0.3 --count 500
+# malformed pass strings that strtok would have let through
+bad 2 "empty field" box:1,1,1 --method rsa --pass count=10,radius=0.1,
+bad 2 "empty field" box:1,1,1 --method rsa --pass count=10,,radius=0.1
+bad 2 "count is given twice" box:1,1,1 --method rsa --pass count=10,radius=0.1,count=5
+bad 2 "grow is given twice" box:1,1,1 --method rsa --pass count=10,radius=0.1,grow,grow
+# radii are stored as float: below its smallest normal value they would be 0
+bad 2 "1.2e-38" box:1,1,1 --method rsa --pass count=10,radius=1e-46
+bad 2 "1.2e-38" box:1,1,1 --method rsa --pass count=10,radius=1e-300
+bad 2 "3.4e38" box:1,1,1 --method rsa --pass count=10,radius=1e39
+bad 2 "1.2e-38" box:1,1,1 --method relax --radius 1e-46 --count 10
+bad 2 "reach below" box:1,1,1 --method rsa --pass count=10,radius=uniform:1e-40:0.1
+# counts that no packing can hold (rsa; relax refuses them above)
+bad 1 "0.7405" box:1,1,1 --method rsa --pass count=200000,radius=0.05
+bad 1 "0.7405" box:1,1,1 --method rsa --pass count=1500,radius=0.05
+bad 1 "0.7405" box:1,1,1 --method rsa --pass count=1000,radius=0.05 --pass count=800,radius=0.05
+bad 1 "cannot fit" box:1,1,1 --method rsa --pass count=1000,radius=0.05 --pass count=1000,radius=0.06
+bad 1 "grown by the largest radius" box:1,1,1 --fit center --method rsa --pass count=15000,radius=0.05
+# a sphere wider than the box is thin, though its volume would fit
+bad 1 "leaves no room" box:1,1,0.5 --method rsa --pass count=1,radius=0.3
+# an analytic container beyond what float positions hold
+bad 2 "1e18" sphere:1e300 --method rsa --pass count=10,radius=0.05
+# a first particle drawn large that never finds room: the message names it
+bad 1 "tries in a row failed for the first particle" box:1,1,1 --method rsa --pass count=20,radius=uniform:0.01:0.49
+# the container named as the output: refused before anything is read or written
+cp "$VP_SRC/vdb_samples/torus_ls.vdb" own.vdb
+set +e; "$VDBPACK" pack own.vdb --method rsa --pass count=10,radius=0.05 -o own.vdb >bad.out 2>bad.err; st=$?; set -e
+[ "$st" = 2 ] && grep -q "container itself" bad.err || die "-o naming the container: exit $st, $(cat bad.err)"
+cmp -s own.vdb "$VP_SRC/vdb_samples/torus_ls.vdb" || die "-o naming the container changed it"
+echo "  ok: $(cat bad.err)"
+bad 2 "same file" box:1,1,1 --radius 0.1 --save-container bad.vdb
+# a count pass that runs out of room (under the 0.7405 bound, over what
+# RSA reaches) says why it stopped
+"$VDBPACK" pack box:1,1,1 --method rsa --pass count=1400,radius=0.05 -o short.vdb >short.out
+grep -q "placed [0-9]* of 1400 (stopped: no room left for another)" short.out ||
+  die "short count pass: $(cat short.out)"
+echo "  ok: $(grep pass1 short.out)"
 # solids (issue 5): random orientations in a level-set container, grown
 mesh="$VP_SRC/vdb_samples/peanut.obj"
 echo "=== solids: octahedra, random orientations, grow, in $mesh"

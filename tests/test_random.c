@@ -155,9 +155,9 @@ static void test_size_dist(void) {
     /* formatted as written (shortest text that reads back exactly), and
      * parsed back to the same values */
     const char *fmt[] = {"0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6",
-                         "0.1000000000000000055511151231257827", "1e-300"};
+                         "0.1000000000000000055511151231257827", "1e-30"};
     const char *want[] = {"0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6",
-                          "0.1", "1e-300"};
+                          "0.1", "1e-30"};
     for (int s = 0; s < 6; s++) {
         vp_size_dist d, e;
         char buf[256];
@@ -168,6 +168,17 @@ static void test_size_dist(void) {
         ASSERT_EQ_INT(vp_size_dist_parse(ctx, buf, &e), VP_OK);
         ASSERT_TRUE(e.kind == d.kind && e.a == d.a && e.b == d.b && e.n == d.n);
         for (unsigned i = 0; i < d.n; i++) ASSERT_TRUE(e.values[i] == d.values[i]);
+    }
+    {   /* radii are stored as float: every size a law draws must be a normal float */
+        vp_size_dist d;
+        const char *ok[] = {"1.2e-38", "3.4e38", "uniform:1.2e-38:1", "lognormal:1:0.5"};
+        const char *no[] = {"1e-38", "1e-300", "3.5e38", "uniform:1e-39:1", "list:1:1e-40",
+                            "lognormal:1e-37:1e-36", "uniform:1:1e39"};
+        for (int i = 0; i < 4; i++) ASSERT_EQ_INT(vp_size_dist_parse(ctx, ok[i], &d), VP_OK);
+        for (int i = 0; i < 7; i++) {
+            ASSERT_EQ_INT(vp_size_dist_parse(ctx, no[i], &d), VP_ERR_INVALID_ARGUMENT);
+            ASSERT_TRUE(strstr(vp_context_message(ctx), "float") != NULL);
+        }
     }
     {   /* a value that needs 17 digits keeps them */
         vp_size_dist d, e;
@@ -242,12 +253,18 @@ static void test_rsa_retries_and_no_fit(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps;
     vp_rsa_params rp;
-    one_pass(&ps, &rp, 0.2, 500, 0);
-    ps.retries = 200;
     vp_particles *p = NULL;
     vp_rsa_report rep;
+    /* 500 spheres of radius 0.2 fill 16.8 boxes: refused up front */
+    one_pass(&ps, &rp, 0.2, 500, 0);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_NO_FIT);
+    ASSERT_TRUE(p == NULL);
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "0.7405") != NULL);
+    /* 20 fill 0.67 of it, under the bound: packed until the retries end it */
+    one_pass(&ps, &rp, 0.2, 20, 0);
+    ps.retries = 200;
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
-    fprintf(stderr, "   radius 0.2, count 500: placed %zu, stop %d, tries %llu\n",
+    fprintf(stderr, "   radius 0.2, count 20: placed %zu, stop %d, tries %llu\n",
             rep.passes[0].placed, (int)rep.passes[0].stop,
             (unsigned long long)rep.passes[0].tries);
     ASSERT_TRUE(rep.passes[0].placed > 0 && rep.passes[0].placed < 20);

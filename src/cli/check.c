@@ -156,6 +156,10 @@ int vp_cli_check(int argc, char **argv) {
         for (size_t i = 0; i < p->count; i++)
             if (p->radii[i] > rmax) rmax = p->radii[i];
     int an = vp_cli_analytic_container(ctx, cont, &c);
+    if (an == -2) {
+        status = vp_cli_die(2, "check: %s", vp_context_message(ctx));
+        goto done;
+    }
     if (an < 0) {
         status = vp_cli_die(2, "check: malformed analytic container '%s' (sphere:R or box:X,Y,Z "
                                "with positive sizes)", cont);

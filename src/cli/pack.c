@@ -613,6 +613,8 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             else if (pr->stop == VP_RSA_STOP_RETRIES)
                 printf(" of %zu (stopped: %d failed tries in a row)", pr->requested,
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
+            else if (pr->stop == VP_RSA_STOP_MAXIMAL && pr->placed < pr->requested)
+                printf(" of %zu (stopped: no room left for another)", pr->requested);
             else
                 printf(" of %zu", pr->requested);
             if (o->passes[i].grow) printf(", grown by %.3fx on average", pr->grow_mean);
@@ -643,14 +645,26 @@ int vp_cli_pack_parse_only(int argc, char **argv) {
     vp_container *c = NULL;
     int an = vp_cli_analytic_container(ctx, o.container, &c);
     vp_container_destroy(c);
+    rc = an == -2 ? vp_cli_die(2, "pack: %s", vp_context_message(ctx))
+             : an < 0 ? malformed_analytic(o.container)
+                      : 0;
     vp_context_destroy(ctx);
-    return an < 0 ? malformed_analytic(o.container) : 0;
+    return rc;
 }
 
 int vp_cli_pack(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
     if (rc) return rc;
+    /* the container is read before anything is written, but a TD who names
+     * it as the output would lose it */
+    if (vp_cli_same_file(o.output, o.container))
+        return vp_cli_die(2, "pack: -o %s is the container itself: writing would replace it",
+                          o.output);
+    if (o.save_container && vp_cli_same_file(o.save_container, o.container))
+        return vp_cli_die(2, "pack: --save-container %s is the container itself", o.save_container);
+    if (o.save_container && vp_cli_same_file(o.save_container, o.output))
+        return vp_cli_die(2, "pack: --save-container and -o name the same file (%s)", o.output);
     double t0 = now();
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
@@ -685,6 +699,10 @@ int vp_cli_pack(int argc, char **argv) {
         o.mesh = mesh;
     }
     int an = vp_cli_analytic_container(ctx, o.container, &c);
+    if (an == -2) {
+        status = vp_cli_die(2, "pack: %s", vp_context_message(ctx));
+        goto done;
+    }
     if (an < 0) {
         status = malformed_analytic(o.container);
         goto done;

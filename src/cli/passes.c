@@ -33,9 +33,19 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
     if (strlen(text) >= sizeof buf) return vp_cli_die(2, "pack: --pass '%.40s...' is too long", text);
     strcpy(buf, text);
     int have_count = 0, have_radius = 0;
-    char *save = NULL;
-    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    /* fields split by hand: strtok would skip empty ones ("a,,b", a trailing comma) */
+    static const char *const fields[] = {"count", "radius", "retries", "grow", "name"};
+    int seen[5] = {0};
+    for (char *tok = buf, *next; tok; tok = next) {
+        next = strchr(tok, ',');
+        if (next) *next++ = 0;
+        if (!*tok) return vp_cli_die(2, "pack: --pass '%s': empty field (a stray comma)", text);
         char *eq = strchr(tok, '=');
+        for (int f = 0; f < 5; f++) {
+            size_t fl = strlen(fields[f]);
+            if (!strncmp(tok, fields[f], fl) && (tok[fl] == 0 || tok[fl] == '=') && seen[f]++)
+                return vp_cli_die(2, "pack: --pass '%s': %s is given twice", text, fields[f]);
+        }
         const char *val = eq ? eq + 1 : NULL;
         if (eq) *eq = 0;
         if (!strcmp(tok, "count")) {

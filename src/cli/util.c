@@ -26,6 +26,14 @@ int vp_cli_die(int status, const char *fmt, ...) {
     return status;
 }
 
+int vp_cli_same_file(const char *a, const char *b) {
+    if (!a || !b) return 0;
+    if (!strcmp(a, b)) return 1;
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
 int vp_cli_parse_double(const char *s, double *out) {
     if (!s || !*s || isspace((unsigned char)*s)) return -1;
     char *end = NULL;
@@ -89,7 +97,8 @@ void vp_cli_json_string(FILE *f, const char *s) {
 }
 
 /* sphere:R or box:X,Y,Z (centred at the origin); 1 if it is one, -1 if
- * malformed, 0 if not analytic. */
+ * malformed, -2 if refused by the library (its message in ctx), 0 if not
+ * analytic. */
 int vp_cli_analytic_container(vp_context *ctx, const char *spec, vp_container **out) {
     struct stat st;
     if (stat(spec, &st) == 0) return 0; /* a file of that name wins */
@@ -97,7 +106,7 @@ int vp_cli_analytic_container(vp_context *ctx, const char *spec, vp_container **
     if (!strncmp(spec, "sphere:", 7)) {
         double r;
         if (vp_cli_parse_double(spec + 7, &r) != 0 || !(r > 0)) return -1;
-        return vp_container_create_sphere(ctx, c, r, out) == VP_OK ? 1 : -1;
+        return vp_container_create_sphere(ctx, c, r, out) == VP_OK ? 1 : -2;
     }
     if (!strncmp(spec, "box:", 4)) {
         char buf[256];
@@ -112,7 +121,7 @@ int vp_cli_analytic_container(vp_context *ctx, const char *spec, vp_container **
         }
         if (n != 3 || tok) return -1;
         double lo[3] = {-e[0] / 2, -e[1] / 2, -e[2] / 2}, hi[3] = {e[0] / 2, e[1] / 2, e[2] / 2};
-        return vp_container_create_box(ctx, lo, hi, out) == VP_OK ? 1 : -1;
+        return vp_container_create_box(ctx, lo, hi, out) == VP_OK ? 1 : -2;
     }
     return 0;
 }

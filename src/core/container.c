@@ -90,6 +90,15 @@ static int finite3(const double v[3]) {
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
 
+/* Particle positions are stored as float: an analytic container must lie
+ * well inside float's range (and its volume inside double's). */
+#define VP_ANALYTIC_LIMIT 1e18
+
+static int in_range3(const double v[3]) {
+    return fabs(v[0]) <= VP_ANALYTIC_LIMIT && fabs(v[1]) <= VP_ANALYTIC_LIMIT &&
+           fabs(v[2]) <= VP_ANALYTIC_LIMIT;
+}
+
 vp_result vp_container_create_sphere(vp_context *ctx, const double center[3], double radius,
                                      vp_container **out) {
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "container: out is NULL");
@@ -97,6 +106,10 @@ vp_result vp_container_create_sphere(vp_context *ctx, const double center[3], do
     if (!center || !finite3(center) || !(radius > 0) || !isfinite(radius))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "sphere container: the radius must be a positive finite number");
+    if (!in_range3(center) || radius > VP_ANALYTIC_LIMIT)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "sphere container: it must lie within +-1e18 of the origin (positions are "
+                       "stored as float)");
     analytic *a = calloc(1, sizeof *a);
     if (!a) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "container: out of memory");
     double lo[3], hi[3];
@@ -117,6 +130,10 @@ vp_result vp_container_create_box(vp_context *ctx, const double bmin[3], const d
         !(bmax[1] > bmin[1]) || !(bmax[2] > bmin[2]))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "box container: every size must be a positive finite number");
+    if (!in_range3(bmin) || !in_range3(bmax))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "box container: it must lie within +-1e18 of the origin (positions are "
+                       "stored as float)");
     analytic *a = calloc(1, sizeof *a);
     if (!a) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "container: out of memory");
     a->is_box = 1;

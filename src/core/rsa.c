@@ -43,7 +43,8 @@
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
 #define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
 #define SPLIT_DARTS_SOLID 2    /* (solids: their darts cost more, splitting sooner pays) */
-#define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
+#define BYTES_PER_PARTICLE 64
+#define KEPLER 0.74048048969306104 /* densest packing of equal spheres */  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
 void vp_rsa_pass_init(vp_rsa_pass *p) {
@@ -1230,8 +1231,9 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (!(hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2])) {
         if (s->p->count == 0)
             return vp_fail(s->ctx, VP_ERR_NO_FIT,
-                           "rsa: pass %u: radius %.6g is too large for the container (its inside "
-                           "is %.6g x %.6g x %.6g)", pass_index + 1, s->rmin,
+                           "rsa: pass %u: radius %.9g (as a float) leaves no room for a "
+                           "centre in the container (its inside is %.6g x %.6g x %.6g)",
+                           pass_index + 1, s->rmin,
                            ci->bmax[0] - ci->bmin[0], ci->bmax[1] - ci->bmin[1],
                            ci->bmax[2] - ci->bmin[2]);
         rep->stop = VP_RSA_STOP_MAXIMAL;
@@ -1440,6 +1442,12 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     }
     free(hits);
     if (r != VP_OK) return r;
+    if (rep->placed == 0 && first == 0 && s->p->count == 0 && rep->stop == VP_RSA_STOP_RETRIES)
+        return vp_fail(s->ctx, VP_ERR_NO_FIT,
+                       "rsa: pass %u: nothing placed: %zu tries in a row failed for the first "
+                       "particle, of radius %.6g (drawn from the pass's sizes, it keeps its radius "
+                       "until placed); raise retries=K or narrow the sizes",
+                       pass_index + 1, retries, cur_r);
     if (rep->placed == 0 && first == 0 && s->p->count == 0)
         return vp_fail(s->ctx, VP_ERR_NO_FIT,
                        "rsa: pass %u: no sphere of radius %.6g fits in the container (%s)",
@@ -1502,6 +1510,46 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                                : (double)ps->count;
         double fill = 0.4 * ci->volume / (unit_volume * a * a * a);
         estimate += n < fill * 1.2 ? n : fill * 1.2; /* no more than can fit */
+    }
+    /* counts that no packing can hold: their particles' volume (at the
+     * smallest radius each law draws) is over what the region they must lie
+     * in can take: the container with fit inside, the container's box grown
+     * by the largest radius with fit center; at most 0.7405 of it when every
+     * particle is a sphere of one radius (Kepler, Hales), else all of it */
+    {
+        double vmin = 0.0, r1 = 0.0;
+        size_t nall = 0;
+        int one = params->shape == VP_SHAPE_SPHERE;
+        for (size_t i = 0; i < params->npasses; i++) {
+            const vp_rsa_pass *ps = &params->passes[i];
+            double a = vp_size_dist_min(&ps->radius);
+            if (ps->radius.kind != VP_SIZE_CONSTANT || (r1 > 0 && a != r1)) one = 0;
+            r1 = a;
+            if (ps->maximal) continue;
+            vmin += (double)ps->count * unit_volume * a * a * a;
+            nall += ps->count;
+        }
+        double room = ci->volume;
+        if (params->fit == VP_FIT_CENTER)
+            room = (ci->bmax[0] - ci->bmin[0] + 2 * rmax) * (ci->bmax[1] - ci->bmin[1] + 2 * rmax) *
+                   (ci->bmax[2] - ci->bmin[2] + 2 * rmax);
+        double limit = one ? KEPLER : 1.0;
+        const char *where = params->fit == VP_FIT_CENTER
+                                ? "the container's box grown by the largest radius"
+                                : "the container";
+        if (room > 0 && vmin > limit * room) {
+            if (one)
+                return vp_fail(ctx, VP_ERR_NO_FIT,
+                               "rsa: %zu spheres of radius %.6g fill %.3g%s the volume of %s, "
+                               "more than any packing of equal spheres holds (0.7405); ask for "
+                               "fewer, or count=max for as many as fit",
+                               nall, r1, vmin / room, vmin < room ? " of" : " times", where);
+            return vp_fail(ctx, VP_ERR_NO_FIT,
+                           "rsa: %zu particles of these sizes (at their smallest) fill %.3g times "
+                           "the volume of %s: they cannot fit; ask for fewer, or count=max for "
+                           "as many as fit",
+                           nall, vmin / room, where);
+        }
     }
     double need = estimate * BYTES_PER_PARTICLE;
     if (need > (double)vp_memory_limit(ctx)) {

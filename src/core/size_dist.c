@@ -4,6 +4,7 @@
 #include "core/size_dist_sample.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,6 +39,23 @@ static vp_result bad(vp_context *ctx, const char *text, const char *why) {
     return VP_ERR_INVALID_ARGUMENT;
 }
 
+/* Radii are stored as float (pscale): every size the law can draw must be
+ * a normal float, or it would be stored as 0 (or infinity). */
+static vp_result float_range(vp_context *ctx, const char *text, const vp_size_dist *d,
+                             vp_size_dist *out) {
+    double lo = vp_size_dist_min(d), hi = vp_size_dist_max(d);
+    if (!(lo >= FLT_MIN))
+        return bad(ctx, text, d->kind == VP_SIZE_CONSTANT
+                                  ? "a radius must be at least 1.2e-38 (radii are stored as float)"
+                                  : "its sizes reach below 1.2e-38 (radii are stored as float)");
+    if (!(hi <= FLT_MAX))
+        return bad(ctx, text, d->kind == VP_SIZE_CONSTANT
+                                  ? "a radius must be at most 3.4e38 (radii are stored as float)"
+                                  : "its sizes reach above 3.4e38 (radii are stored as float)");
+    *out = d[0];
+    return VP_OK;
+}
+
 vp_result vp_size_dist_parse(vp_context *ctx, const char *text, vp_size_dist *out) {
     if (!text || !out) return bad(ctx, text ? text : "(null)", "no text");
     vp_size_dist d;
@@ -49,8 +67,8 @@ vp_result vp_size_dist_parse(vp_context *ctx, const char *text, vp_size_dist *ou
             return bad(ctx, text, "not a number or a distribution (uniform:A:B, "
                                   "lognormal:MEAN:SD, list:R1:R2:...)");
         if (!(v > 0)) return bad(ctx, text, "a radius must be > 0");
-        vp_size_dist_constant(out, v);
-        return VP_OK;
+        vp_size_dist_constant(&d, v);
+        return float_range(ctx, text, &d, out);
     }
     size_t klen = (size_t)(colon - text);
     double vals[VP_SIZE_LIST_MAX + 1];
@@ -90,8 +108,7 @@ vp_result vp_size_dist_parse(vp_context *ctx, const char *text, vp_size_dist *ou
         return bad(ctx, text, "unknown distribution (uniform:A:B, lognormal:MEAN:SD, "
                               "list:R1:R2:...)");
     }
-    *out = d;
-    return VP_OK;
+    return float_range(ctx, text, &d, out);
 }
 
 /* mu, sigma of log r for mean m and standard deviation sd of r. */
