@@ -164,6 +164,11 @@ bad 2 "same file" box:1,1,1 --radius 0.1 --save-container bad.vdb
 grep -q "placed [0-9]* of 1400 (stopped: no room left for another)" short.out ||
   die "short count pass: $(cat short.out)"
 echo "  ok: $(grep pass1 short.out)"
+# with fit center particles may reach out of the container: a fraction over 1
+# says why
+"$VDBPACK" pack box:1,1,0.01 --fit center --method rsa --pass count=50,radius=0.05 -o flat.vdb >flat.out
+grep -q "packing fraction [1-9][0-9.]* (over 1: with --fit center" flat.out || die "fraction over 1: $(cat flat.out)"
+echo "  ok: $(grep fraction flat.out)"
 # solids (issue 5): random orientations in a level-set container, grown
 mesh="$VP_SRC/vdb_samples/peanut.obj"
 echo "=== solids: octahedra, random orientations, grow, in $mesh"

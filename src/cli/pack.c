@@ -620,7 +620,10 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             if (o->passes[i].grow) printf(", grown by %.3fx on average", pr->grow_mean);
             printf(", %.2f s\n", pr->seconds);
         }
-        printf("  packing fraction %.4f\n", fraction);
+        printf("  packing fraction %.4f%s\n", fraction,
+               fraction > 1.0 ? " (over 1: with --fit center the wall does not hold the "
+                                "particles, nor their growth)"
+                              : "");
     } else {
         const vp_relax_report *x = &rr->relax;
         printf("  relaxation: %d sweeps, radii scaled by %.4f, largest overlap %.3g of r_i + r_j\n",
