@@ -140,11 +140,15 @@ bad 2 "3.4e38" box:1,1,1 --method rsa --pass count=10,radius=1e39
 bad 2 "1.2e-38" box:1,1,1 --method relax --radius 1e-46 --count 10
 bad 2 "reach below" box:1,1,1 --method rsa --pass count=10,radius=uniform:1e-40:0.1
 # counts that no packing can hold (rsa; relax refuses them above)
-bad 1 "0.7405" box:1,1,1 --method rsa --pass count=200000,radius=0.05
+bad 1 "105 times the container's volume" box:1,1,1 --method rsa --pass count=200000,radius=0.05
+bad 1 "1.25 times the container's volume" sphere:1 --method rsa --pass count=10000,radius=0.05
 bad 1 "0.7405" box:1,1,1 --method rsa --pass count=1500,radius=0.05
 bad 1 "0.7405" box:1,1,1 --method rsa --pass count=1000,radius=0.05 --pass count=800,radius=0.05
 bad 1 "cannot fit" box:1,1,1 --method rsa --pass count=1000,radius=0.05 --pass count=1000,radius=0.06
 bad 1 "grown by the largest radius" box:1,1,1 --fit center --method rsa --pass count=15000,radius=0.05
+# Kepler's bound holds in a box, not in a container shaped to its spheres:
+# one sphere filling 0.857 of a sphere is packed
+"$VDBPACK" pack sphere:1 --method rsa --pass count=1,radius=0.95 -o one.vdb -q || die "one sphere of 0.95 in sphere:1"
 # a sphere wider than the box is thin, though its volume would fit
 bad 1 "leaves no room" box:1,1,0.5 --method rsa --pass count=1,radius=0.3
 # an analytic container beyond what float positions hold

@@ -259,7 +259,17 @@ static void test_rsa_retries_and_no_fit(void) {
     one_pass(&ps, &rp, 0.2, 500, 0);
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_NO_FIT);
     ASSERT_TRUE(p == NULL);
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "cannot fit") != NULL);
+    /* 1500 of radius 0.05 fill 0.785 of the box: under its volume, over
+     * Kepler's 0.7405, which holds in a box */
+    one_pass(&ps, &rp, 0.05, 1500, 0);
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_NO_FIT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "0.7405") != NULL);
+    one_pass(&ps, &rp, 0.05, 1400, 0); /* 0.733: packed as far as it goes */
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_TRUE(rep.passes[0].placed < 1400 && rep.passes[0].stop == VP_RSA_STOP_MAXIMAL);
+    vp_particles_destroy(p);
+    p = NULL;
     /* 20 fill 0.67 of it, under the bound: packed until the retries end it */
     one_pass(&ps, &rp, 0.2, 20, 0);
     ps.retries = 200;

@@ -19,10 +19,10 @@ int vp_cli_pack(int argc, char **argv);
  * fuzzer (fuzz/fuzz_options.c). */
 int vp_cli_pack_parse_only(int argc, char **argv);
 
-/* Strict number parsing: the whole text must be a finite number. */
 /* 1 when a and b name the same file: the same string, or both exist and
  * are the same inode. */
 int vp_cli_same_file(const char *a, const char *b);
+/* Strict number parsing: the whole text must be a finite number. */
 int vp_cli_parse_double(const char *s, double *out);
 int vp_cli_parse_u64(const char *s, uint64_t *out);
 /* "8G", "500M", "1024" (bytes). */

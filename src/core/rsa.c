@@ -43,8 +43,8 @@
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
 #define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
 #define SPLIT_DARTS_SOLID 2    /* (solids: their darts cost more, splitting sooner pays) */
-#define BYTES_PER_PARTICLE 64
-#define KEPLER 0.74048048969306104 /* densest packing of equal spheres */  /* estimate for the memory guard */
+#define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
+#define KEPLER 0.74048048969306104 /* densest packing of equal spheres (pi / sqrt 18) */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
 void vp_rsa_pass_init(vp_rsa_pass *p) {
@@ -1511,44 +1511,52 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         double fill = 0.4 * ci->volume / (unit_volume * a * a * a);
         estimate += n < fill * 1.2 ? n : fill * 1.2; /* no more than can fit */
     }
-    /* counts that no packing can hold: their particles' volume (at the
-     * smallest radius each law draws) is over what the region they must lie
-     * in can take: the container with fit inside, the container's box grown
-     * by the largest radius with fit center; at most 0.7405 of it when every
-     * particle is a sphere of one radius (Kepler, Hales), else all of it */
+    /* counts that no packing can hold, by bounds that are proofs: the
+     * particles' volume (each at the smallest size its law draws) is at most
+     * the container's (fit inside); and they lie in a box (the container's
+     * box, grown by the largest radius with fit center), whose packing
+     * repeated periodically is a packing of space, so equal spheres fill at
+     * most pi / sqrt 18 of it (Kepler's bound, Hales). A container shaped
+     * to its spheres can be filled past 0.7405, a box cannot. */
     {
         double vmin = 0.0, r1 = 0.0;
         size_t nall = 0;
-        int one = params->shape == VP_SHAPE_SPHERE;
+        int equal = params->shape == VP_SHAPE_SPHERE;
         for (size_t i = 0; i < params->npasses; i++) {
             const vp_rsa_pass *ps = &params->passes[i];
             double a = vp_size_dist_min(&ps->radius);
-            if (ps->radius.kind != VP_SIZE_CONSTANT || (r1 > 0 && a != r1)) one = 0;
+            if (ps->radius.kind != VP_SIZE_CONSTANT || (r1 > 0 && a != r1)) equal = 0;
             r1 = a;
             if (ps->maximal) continue;
             vmin += (double)ps->count * unit_volume * a * a * a;
             nall += ps->count;
         }
-        double room = ci->volume;
-        if (params->fit == VP_FIT_CENTER)
-            room = (ci->bmax[0] - ci->bmin[0] + 2 * rmax) * (ci->bmax[1] - ci->bmin[1] + 2 * rmax) *
-                   (ci->bmax[2] - ci->bmin[2] + 2 * rmax);
-        double limit = one ? KEPLER : 1.0;
-        const char *where = params->fit == VP_FIT_CENTER
-                                ? "the container's box grown by the largest radius"
-                                : "the container";
-        if (room > 0 && vmin > limit * room) {
-            if (one)
-                return vp_fail(ctx, VP_ERR_NO_FIT,
-                               "rsa: %zu spheres of radius %.6g fill %.3g%s the volume of %s, "
-                               "more than any packing of equal spheres holds (0.7405); ask for "
-                               "fewer, or count=max for as many as fit",
-                               nall, r1, vmin / room, vmin < room ? " of" : " times", where);
+        double grow = params->fit == VP_FIT_CENTER ? 2.0 * rmax : 0.0;
+        double box = (ci->bmax[0] - ci->bmin[0] + grow) * (ci->bmax[1] - ci->bmin[1] + grow) *
+                     (ci->bmax[2] - ci->bmin[2] + grow);
+        const char *what = params->fit == VP_FIT_CENTER
+                               ? "the container's box grown by the largest radius"
+                               : "the container's box";
+        if (params->fit == VP_FIT_INSIDE && ci->volume > 0 && vmin > ci->volume) {
+            char what_p[64] = "particles of these sizes (at their smallest)";
+            if (equal) snprintf(what_p, sizeof what_p, "spheres of radius %.6g", r1);
             return vp_fail(ctx, VP_ERR_NO_FIT,
-                           "rsa: %zu particles of these sizes (at their smallest) fill %.3g times "
-                           "the volume of %s: they cannot fit; ask for fewer, or count=max for "
-                           "as many as fit",
-                           nall, vmin / room, where);
+                           "rsa: %zu %s cannot fit: they fill %.3g times the container's volume; "
+                           "ask for fewer, or count=max for as many as fit",
+                           nall, what_p, vmin / ci->volume);
+        }
+        if (box > 0 && vmin > (equal ? KEPLER : 1.0) * box) {
+            if (equal)
+                return vp_fail(ctx, VP_ERR_NO_FIT,
+                               "rsa: %zu spheres of radius %.6g cannot fit: they would fill %.3g "
+                               "of %s, more than any packing of equal spheres holds (0.7405); "
+                               "ask for fewer, or count=max for as many as fit",
+                               nall, r1, vmin / box, what);
+            return vp_fail(ctx, VP_ERR_NO_FIT,
+                           "rsa: %zu particles of these sizes cannot fit: at their smallest they "
+                           "fill %.3g times the volume of %s; ask for fewer, or count=max for as "
+                           "many as fit",
+                           nall, vmin / box, what);
         }
     }
     double need = estimate * BYTES_PER_PARTICLE;
