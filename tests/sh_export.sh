@@ -98,4 +98,43 @@ cat snips.out
   die "the CSV and PLY snippets should each print '$n particles; groups: pass1, pass2'"
 grep -qx True snips.out || die "quat_to_matrix snippet"
 echo "  ok: the 3 snippets run and report $n particles in groups pass1, pass2"
+echo "=== outputs that would overwrite an input or each other, and convert's inputs"
+refused() { # STATUS WORD CMD... : one line, that status, the word
+  local want=$1 word=$2; shift 2
+  set +e; "$VDBPACK" "$@" >r.out 2>r.err; local st=$?; set -e
+  [ "$st" = "$want" ] || die "'$*' exited $st, expected $want: $(cat r.err)"
+  [ "$(wc -l <r.err)" = 1 ] && grep -q -- "$word" r.err || die "'$*': $(cat r.err)"
+  echo "  ok: $(cat r.err)"
+}
+cp "$VP_SRC/vdb_samples/torus.obj" mine.obj
+refused 2 "container itself" pack mine.obj --radius 0.1 -o o1.vdb --shape-out mine.obj -q
+cmp -s mine.obj "$VP_SRC/vdb_samples/torus.obj" || die "--shape-out replaced the container"
+refused 2 "name the same file" pack box:1,1,1 --radius 0.1 -o same.png --format vdb --preview same.png -q
+refused 2 "name the same file" pack box:1,1,1 --radius 0.1 -o same.obj --shape-out same.obj -q
+refused 2 "ending in .obj" pack box:1,1,1 --radius 0.1 -o o2.vdb --shape-out shape.ply -q
+refused 2 "ending in .vdb" pack mine.obj --radius 0.1 -o o3.vdb --save-container ls.ply -q
+refused 2 "--shape mesh itself" pack box:1,1,1 --method rsa --shape mine.obj --radius 0.1 --count 5 -o mine.obj --format vdb -q
+for f in o1.vdb same.png same.obj o2.vdb shape.ply o3.vdb ls.ply; do [ ! -e "$f" ] || die "$f was written"; done
+# a points grid without pscale (vdb_tool writes P only): no packing to convert
+printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n' >p_only.ply
+vdb_tool -quiet -read p_only.ply -points2vdb -write p_only.vdb >/dev/null 2>&1 || die "vdb_tool -points2vdb"
+refused 1 "no positive radius" convert p_only.vdb p_only.csv -q
+# orientations given as spheres
+printf 'id,x,y,z,pscale,qx,qy,qz,qw,group\n0,0,0,0,0.1,0,0,0,1,pass1\n' >q.csv
+refused 1 "spheres do not carry" convert q.csv q.vdb --shape sphere -q
+"$VDBPACK" convert q.csv q.vdb --shape cube -q || die "q.csv as cubes"
+# PLY far from the origin: float positions round by a part of a radius
+"$PY" - <<'PY'
+o = (84616.0, 447422.0, 3.0)
+v = [(o[0] + x * 20, o[1] + y * 20, o[2] + z * 20) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+f = [(1, 3, 4, 2), (5, 6, 8, 7), (1, 2, 6, 5), (3, 7, 8, 4), (1, 5, 7, 3), (2, 4, 8, 6)]
+with open("far.obj", "w") as fh:
+    fh.writelines("v %.1f %.1f %.1f\n" % p for p in v)
+    fh.writelines("f %d %d %d %d\n" % q for q in f)
+PY
+"$VDBPACK" pack far.obj --radius 1 -o far.ply 2>far.err >/dev/null || die "far.obj: $(cat far.err)"
+grep -q "warning: far.ply: PLY stores positions as 32-bit floats" far.err || die "no float warning: $(cat far.err)"
+echo "  ok: $(cat far.err)"
+"$VDBPACK" pack box:1,1,1 --radius 0.05 -o near.ply 2>near.err >/dev/null
+[ ! -s near.err ] || die "a warning near the origin: $(cat near.err)"
 echo "PASS: sh_export"

@@ -3,6 +3,7 @@
  * `vdbpack pack -o` shares (choosing the format, the OBJ size warning). */
 #include "vdbpack/vdbpack.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,6 +57,22 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
             fprintf(stderr, "vdbpack: warning: %s: %zu particles of %d vertices and %d faces make "
                             "about %.1f GB of OBJ; .ply or .vdb with instancing is far smaller\n",
                     path, p->count, v, f, bytes / 1e9);
+    }
+    if (format == VP_FORMAT_PLY && !quiet && p->count) {
+        /* PLY positions are absolute 32-bit floats: far from the origin they
+         * round by a fair part of a radius, and touching particles overlap
+         * in the file (the .vdb stores offsets within voxels, CSV %.17g) */
+        double cmax = 0.0, rmin = HUGE_VAL;
+        for (size_t i = 0; i < 3 * p->count; i++) cmax = fmax(cmax, fabs(p->positions[i]));
+        for (size_t i = 0; i < (p->radii ? p->count : 1); i++)
+            rmin = fmin(rmin, p->radii ? (double)p->radii[i] : (double)p->uniform_radius);
+        double half_ulp = cmax > 0 ? ldexp(1.0, ilogb(cmax) - 24) : 0.0; /* float rounding */
+        if (rmin > 0 && sqrt(3.0) * half_ulp > 1e-4 * rmin)
+            fprintf(stderr, "vdbpack: warning: %s: PLY stores positions as 32-bit floats, which "
+                            "at coordinates up to %.6g round by up to %.3g (%.2g %% of the "
+                            "smallest radius): touching particles may overlap in it; .vdb and "
+                            ".csv keep them, or move the container near the origin\n",
+                    path, cmax, sqrt(3.0) * half_ulp, 100.0 * sqrt(3.0) * half_ulp / rmin);
     }
     return vp_export(ctx, path, p, &ep) == VP_OK ? 0 : 1;
 }
@@ -121,6 +138,20 @@ int vp_cli_convert(int argc, char **argv) {
     }
     if (p->count == 0) {
         status = vp_cli_die(1, "%s: holds no particles: nothing to convert", in);
+        goto done;
+    }
+    for (size_t i = 0; i < p->count; i++) { /* a points grid without pscale reads as 0 */
+        double r = p->radii ? (double)p->radii[i] : (double)p->uniform_radius;
+        if (!(r > 0) || !isfinite(r)) {
+            status = vp_cli_die(1, "%s: particle %zu has no positive radius (pscale missing or "
+                                   "%g): a packing needs P and pscale", in, i, r);
+            goto done;
+        }
+        if (!p->radii) break;
+    }
+    if (shape_name && shape == VP_SHAPE_SPHERE && p->has_orient) {
+        status = vp_cli_die(1, "%s: has orientations (qx..qw), which spheres do not carry: give "
+                               "the solid's --shape", in);
         goto done;
     }
     if (needs_shape && !shape_name) {

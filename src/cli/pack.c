@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -184,6 +185,11 @@ static int need_value(int argc, char **argv, int *i, const char **val) {
     return 0;
 }
 
+static int has_ext(const char *path, const char *ext) {
+    size_t n = strlen(path), e = strlen(ext);
+    return n > e && !strcasecmp(path + n - e, ext);
+}
+
 static int parse_pack(int argc, char **argv, pack_opts *o) {
     memset(o, 0, sizeof *o);
     o->method = "lattice";
@@ -350,6 +356,29 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
     int rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
     if (rc) return rc;
+    if (o->shape_out && !has_ext(o->shape_out, ".obj"))
+        return vp_cli_die(2, "pack: --shape-out writes OBJ: give a name ending in .obj, not '%s'",
+                          o->shape_out);
+    if (o->save_container && !has_ext(o->save_container, ".vdb"))
+        return vp_cli_die(2, "pack: --save-container writes a .vdb: give a name ending in .vdb, "
+                             "not '%s'", o->save_container);
+    /* every file written must be distinct from the others and from the
+     * files read (the container, a --shape mesh): a TD would lose one */
+    const char *outs[4] = {o->output, o->save_container, o->shape_out, o->preview};
+    const char *names[4] = {"-o", "--save-container", "--shape-out", "--preview"};
+    const char *ins[2] = {o->container, o->shape_file};
+    const char *inames[2] = {"the container", "the --shape mesh"};
+    for (int i = 0; i < 4; i++) {
+        if (!outs[i]) continue;
+        for (int k = 0; k < 2; k++)
+            if (ins[k] && vp_cli_same_file(outs[i], ins[k]))
+                return vp_cli_die(2, "pack: %s %s is %s itself: writing would replace it",
+                                  names[i], outs[i], inames[k]);
+        for (int k = 0; k < i; k++)
+            if (outs[k] && vp_cli_same_file(outs[i], outs[k]))
+                return vp_cli_die(2, "pack: %s and %s name the same file (%s)", names[k],
+                                  names[i], outs[i]);
+    }
     rc = check_method_options(o, have_radius, have_count);
     if (rc) return rc;
     return 0;
@@ -659,15 +688,6 @@ int vp_cli_pack(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
     if (rc) return rc;
-    /* the container is read before anything is written, but a TD who names
-     * it as the output would lose it */
-    if (vp_cli_same_file(o.output, o.container))
-        return vp_cli_die(2, "pack: -o %s is the container itself: writing would replace it",
-                          o.output);
-    if (o.save_container && vp_cli_same_file(o.save_container, o.container))
-        return vp_cli_die(2, "pack: --save-container %s is the container itself", o.save_container);
-    if (o.save_container && vp_cli_same_file(o.save_container, o.output))
-        return vp_cli_die(2, "pack: --save-container and -o name the same file (%s)", o.output);
     double t0 = now();
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
