@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -185,11 +184,6 @@ static int need_value(int argc, char **argv, int *i, const char **val) {
     return 0;
 }
 
-static int has_ext(const char *path, const char *ext) {
-    size_t n = strlen(path), e = strlen(ext);
-    return n > e && !strcasecmp(path + n - e, ext);
-}
-
 static int parse_pack(int argc, char **argv, pack_opts *o) {
     memset(o, 0, sizeof *o);
     o->method = "lattice";
@@ -356,10 +350,10 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
     int rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
     if (rc) return rc;
-    if (o->shape_out && !has_ext(o->shape_out, ".obj"))
+    if (o->shape_out && vp_format_from_path(o->shape_out) != VP_FORMAT_OBJ)
         return vp_cli_die(2, "pack: --shape-out writes OBJ: give a name ending in .obj, not '%s'",
                           o->shape_out);
-    if (o->save_container && !has_ext(o->save_container, ".vdb"))
+    if (o->save_container && vp_format_from_path(o->save_container) != VP_FORMAT_VDB)
         return vp_cli_die(2, "pack: --save-container writes a .vdb: give a name ending in .vdb, "
                              "not '%s'", o->save_container);
     /* every file written must be distinct from the others and from the

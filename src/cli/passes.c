@@ -32,22 +32,22 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
     char buf[1024];
     if (strlen(text) >= sizeof buf) return vp_cli_die(2, "pack: --pass '%.40s...' is too long", text);
     strcpy(buf, text);
-    int have_count = 0, have_radius = 0;
     /* fields split by hand: strtok would skip empty ones ("a,,b", a trailing comma) */
     static const char *const fields[] = {"count", "radius", "retries", "grow", "name"};
-    int seen[5] = {0};
+    int seen[5] = {0}; /* count and radius are required, each field allowed once */
     for (char *tok = buf, *next; tok; tok = next) {
         next = strchr(tok, ',');
         if (next) *next++ = 0;
         if (!*tok) return vp_cli_die(2, "pack: --pass '%s': empty field (a stray comma)", text);
         char *eq = strchr(tok, '=');
-        for (int f = 0; f < 5; f++) {
-            size_t fl = strlen(fields[f]);
-            if (!strncmp(tok, fields[f], fl) && (tok[fl] == 0 || tok[fl] == '=') && seen[f]++)
-                return vp_cli_die(2, "pack: --pass '%s': %s is given twice", text, fields[f]);
-        }
         const char *val = eq ? eq + 1 : NULL;
         if (eq) *eq = 0;
+        int f = 0;
+        while (f < 5 && strcmp(tok, fields[f])) f++;
+        if (f == 5)
+            return vp_cli_die(2, "pack: --pass '%s': unknown field '%s' (count, radius, retries, "
+                                 "grow, name)", text, tok);
+        if (seen[f]++) return vp_cli_die(2, "pack: --pass '%s': %s is given twice", text, tok);
         if (!strcmp(tok, "count")) {
             uint64_t n;
             if (val && !strcmp(val, "max")) {
@@ -58,14 +58,12 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
             } else {
                 out->count = (size_t)n;
             }
-            have_count = 1;
         } else if (!strcmp(tok, "radius")) {
             if (!val) return vp_cli_die(2, "pack: --pass '%s': radius needs a value", text);
             char opt[64];
             snprintf(opt, sizeof opt, "--pass radius");
             int rc = vp_cli_parse_sizes(opt, val, &out->radius);
             if (rc) return rc;
-            have_radius = 1;
         } else if (!strcmp(tok, "retries")) {
             uint64_t k;
             if (!val || vp_cli_parse_u64(val, &k) != 0 || k == 0 || k > 1000000000)
@@ -80,12 +78,9 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
                 return vp_cli_die(2, "pack: --pass '%s': name must be 1-31 letters, digits or _",
                                   text);
             snprintf(out->name, sizeof out->name, "%s", val);
-        } else {
-            return vp_cli_die(2, "pack: --pass '%s': unknown field '%s' (count, radius, retries, "
-                                 "grow, name)", text, tok);
         }
     }
-    if (!have_count || !have_radius)
+    if (!seen[0] || !seen[1])
         return vp_cli_die(2, "pack: --pass '%s' needs count=N (or count=max) and radius=R", text);
     return 0;
 }

@@ -1,10 +1,12 @@
-/* Small vector and quaternion helpers shared by the C core (header-only).
+/* Small vector and quaternion helpers and constants shared by the C core (header-only).
  * Quaternions are (x, y, z, w), as OpenVDB's math::Quat and Houdini's
  * orient store them. */
 #ifndef VDBPACK_CORE_GEOM_H
 #define VDBPACK_CORE_GEOM_H
 
 #include <math.h>
+
+#define VP_KEPLER 0.74048048969306104 /* densest packing of equal spheres: pi / sqrt 18 */
 
 static inline double vp_dot3(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];

@@ -16,6 +16,7 @@
  * the output has no overlap at all in double precision. */
 #include "core/container.h"
 #include "core/context.h"
+#include "core/geom.h"
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sgrid.h"
@@ -25,7 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define KEPLER 0.74048048969306104   /* densest packing of equal spheres */
 /* Schedule (tuned on 10k spheres at a target of 0.62, docs/relax.md): every
  * STALL_WINDOW sweeps, if the worst overlap did not fall below STALL_GAIN of
  * the previous window's, each sphere still overlapping shrinks by SHRINK of
@@ -277,7 +277,7 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
         vol = P->target_fraction * ci->volume;
     }
     double initial_fraction = vol / ci->volume;
-    if (initial_fraction > KEPLER)
+    if (initial_fraction > VP_KEPLER)
         res = vp_fail(ctx, VP_ERR_NO_FIT,
                       "relax: %zu spheres of these radii fill %.3g times the container's volume, "
                       "more than any packing of spheres can hold (0.74); use fewer or smaller "

@@ -44,7 +44,6 @@
 #define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
 #define SPLIT_DARTS_SOLID 2    /* (solids: their darts cost more, splitting sooner pays) */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
-#define KEPLER 0.74048048969306104 /* densest packing of equal spheres (pi / sqrt 18) */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
 void vp_rsa_pass_init(vp_rsa_pass *p) {
@@ -1488,6 +1487,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                                    ? vp_mesh_shape_volume(params->mesh)
                                    : vp_shape_unit_volume(params->shape);
     double rmin = HUGE_VAL, rmax = 0, estimate = 0;
+    double vmin = 0.0, r1 = 0.0; /* count passes' volume at their smallest sizes; last size */
+    size_t nall = 0;              /* particles the count passes ask for */
+    int equal = params->shape == VP_SHAPE_SPHERE; /* spheres of one radius */
     const vp_container_info *ci = &c->info;
     for (size_t i = 0; i < params->npasses; i++) {
         const vp_rsa_pass *ps = &params->passes[i];
@@ -1510,6 +1512,12 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                                : (double)ps->count;
         double fill = 0.4 * ci->volume / (unit_volume * a * a * a);
         estimate += n < fill * 1.2 ? n : fill * 1.2; /* no more than can fit */
+        if (ps->radius.kind != VP_SIZE_CONSTANT || (r1 > 0 && a != r1)) equal = 0;
+        r1 = a;
+        if (!ps->maximal) {
+            vmin += (double)ps->count * unit_volume * a * a * a;
+            nall += ps->count;
+        }
     }
     /* counts that no packing can hold, by bounds that are proofs: the
      * particles' volume (each at the smallest size its law draws) is at most
@@ -1519,18 +1527,6 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
      * most pi / sqrt 18 of it (Kepler's bound, Hales). A container shaped
      * to its spheres can be filled past 0.7405, a box cannot. */
     {
-        double vmin = 0.0, r1 = 0.0;
-        size_t nall = 0;
-        int equal = params->shape == VP_SHAPE_SPHERE;
-        for (size_t i = 0; i < params->npasses; i++) {
-            const vp_rsa_pass *ps = &params->passes[i];
-            double a = vp_size_dist_min(&ps->radius);
-            if (ps->radius.kind != VP_SIZE_CONSTANT || (r1 > 0 && a != r1)) equal = 0;
-            r1 = a;
-            if (ps->maximal) continue;
-            vmin += (double)ps->count * unit_volume * a * a * a;
-            nall += ps->count;
-        }
         double grow = params->fit == VP_FIT_CENTER ? 2.0 * rmax : 0.0;
         double box = (ci->bmax[0] - ci->bmin[0] + grow) * (ci->bmax[1] - ci->bmin[1] + grow) *
                      (ci->bmax[2] - ci->bmin[2] + grow);
@@ -1545,7 +1541,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                            "ask for fewer, or count=max for as many as fit",
                            nall, what_p, vmin / ci->volume);
         }
-        if (box > 0 && vmin > (equal ? KEPLER : 1.0) * box) {
+        if (box > 0 && vmin > (equal ? VP_KEPLER : 1.0) * box) {
             if (equal)
                 return vp_fail(ctx, VP_ERR_NO_FIT,
                                "rsa: %zu spheres of radius %.6g cannot fit: they would fill %.3g "
