@@ -98,4 +98,23 @@ rc=0; timeout 120 "$VDBPACK" pack mid_cube.vdb --radius 1 --max-memory 16G -o ou
 [ "$(wc -l <s.err)" = 1 ] && grep -q "interior band" s.err || die "mid_cube.vdb: not one line about the band: $(cat s.err)"
 [ ! -e out.vdb ] || die "mid_cube.vdb: wrote an output file"
 echo "  ok: mid_cube.vdb: $(cat s.err)"
+# A level set cut short (a copy or download that stopped): OpenVDB's own
+# reader looped on the 5000-byte cut until the 30 s guard ended it, and
+# `info` described its grid as having 0 active voxels with exit 0. Now every
+# command names the cut at once: one line, exit 1, no output file.
+head -c 5000 plain.vdb >cut.vdb
+"$VDBPACK" pack plain.vdb --radius 0.1 -o whole.vdb >/dev/null 2>s.err || die "plain.vdb: $(cat s.err)"
+head -c 3000 whole.vdb >cut_points.vdb
+for cmd in "info cut.vdb" "pack cut.vdb --radius 0.1 -o out.vdb" "check whole.vdb --container cut.vdb" \
+           "check cut_points.vdb --container plain.vdb" "convert cut_points.vdb out.ply"; do
+  rc=0; start=$(date +%s)
+  timeout 60 "$VDBPACK" $cmd >/dev/null 2>s.err || rc=$?
+  took=$(( $(date +%s) - start ))
+  [ "$rc" = 1 ] || [ "$rc" = 2 ] || die "$cmd: exit $rc (124: timed out): $(head -c 300 s.err)"
+  [ "$(wc -l <s.err)" = 1 ] || die "$cmd: not one line: $(cat s.err)"
+  grep -q "not a readable .vdb file (truncated: grid .* ends at byte [0-9]*, the file has [0-9]* bytes)" s.err \
+    || die "$cmd: the message does not name the cut: $(cat s.err)"
+  [ ! -e out.vdb ] && [ ! -e out.ply ] || die "$cmd: wrote an output file"
+  echo "  ok: $cmd: exit $rc in ${took} s: $(cat s.err)"
+done
 echo "PASS: sh_levelset_inputs"

@@ -117,13 +117,77 @@ int check_writable(const char *path, char *err, size_t errlen)
 // OpenVDB reads a shorter one as "no grids" without complaint.
 static constexpr size_t kMinVdbBytes = 65;
 
+namespace {
+// io::Archive's header reader is protected: this gives it to check_extent.
+class HeaderReader : public openvdb::io::Archive
+{
+public:
+    bool read(std::istream &is)
+    {
+        readHeader(is);
+        setFormatVersion(is);
+        setLibraryVersion(is);
+        setDataCompression(is);
+        return inputHasGridOffsets();
+    }
+};
+} // namespace
+
+// Reads the header, the file metadata and each grid's descriptor (never a
+// tree) and checks that every grid's recorded offsets lie within the file.
+// io::File seeks to those offsets without checking them, and on a file cut
+// short its reader can then loop on a failed stream for minutes (a .vdb cut
+// at 5000 bytes did) or report "0 active voxels" as if the grid were empty.
+static int check_extent(const char *path, uint64_t size, char *err, size_t errlen)
+{
+    std::ifstream is(path, std::ios::binary);
+    if (!is) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
+    HeaderReader header;
+    if (!header.read(is)) return VP_OK; // files before format 212 record no offsets
+    openvdb::MetaMap meta;
+    meta.readMeta(is);
+    int32_t count = -1;
+    is.read(reinterpret_cast<char *>(&count), sizeof count);
+    if (!is || count < 0)
+        return fail(err, errlen, VP_ERR_FORMAT,
+                    "%s: not a readable .vdb file (truncated or corrupt before its grid list, "
+                    "%llu bytes)",
+                    path, (unsigned long long)size);
+    for (int32_t i = 0; i < count; ++i) {
+        openvdb::io::GridDescriptor gd;
+        gd.read(is);
+        const int64_t pos = gd.getGridPos(), block = gd.getBlockPos(), end = gd.getEndPos();
+        const std::string plain = openvdb::io::GridDescriptor::stripSuffix(gd.uniqueName());
+        const std::string name =
+            plain.empty() ? std::to_string(i + 1) + " (unnamed)" : "'" + plain + "'";
+        if (!is)
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        "%s: not a readable .vdb file (truncated or corrupt in the description "
+                        "of grid %d of %d, %llu bytes)",
+                        path, i + 1, count, (unsigned long long)size);
+        if (end > 0 && (uint64_t)end > size)
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        "%s: not a readable .vdb file (truncated: grid %s ends at byte %lld, "
+                        "the file has %llu bytes)",
+                        path, name.c_str(), (long long)end, (unsigned long long)size);
+        if (pos < 0 || block < pos || end < block)
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        "%s: not a readable .vdb file (corrupt offsets of grid %s: %lld, %lld, "
+                        "%lld)",
+                        path, name.c_str(), (long long)pos, (long long)block, (long long)end);
+        gd.seekToEnd(is);
+    }
+    return VP_OK;
+}
+
 int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen)
 {
     if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
     FILE *f = fopen(path, "rb");
     if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+    const bool have_size = fstat(fileno(f), &st) == 0;
+    if (have_size && S_ISDIR(st.st_mode)) {
         fclose(f);
         return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(EISDIR));
     }
@@ -140,6 +204,8 @@ int open_file(const char *path, openvdb::io::File &file, char *err, size_t errle
                         : "%s: not a readable .vdb file (%zu bytes, not a VDB file)",
                     path, got);
     try {
+        int rc = check_extent(path, have_size ? (uint64_t)st.st_size : UINT64_MAX, err, errlen);
+        if (rc != VP_OK) return rc;
         file.open(/*delayLoad=*/false);
     } catch (...) {
         return from_exception(path, Op::Read, err, errlen);
