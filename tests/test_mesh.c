@@ -320,6 +320,15 @@ static void test_nonfinite(void)
     ASSERT_TRUE(strstr(g_err, "vertex ") != NULL);
     ASSERT_TRUE(strstr(g_err, "non-finite") != NULL);
     ASSERT_TRUE(strstr(g_err, "(nan)") != NULL);
+    /* OBJ: the vertex as the file numbers it (what f lines call it), and
+     * its line; Assimp's own order (one vertex per face corner) named
+     * vertex 1 or 3 for the second v line. */
+    ASSERT_TRUE(strstr(g_err, "vertex 4 (line 4: 'v 0 0 nan')") != NULL);
+    snprintf(text, sizeof text, "# a comment\nv 0 0 0\nv 1 nan 0\nv 0 1 0\nv 0 0 1\n%s", tet_tail);
+    load_text(text, ".obj", VP_ERR_FORMAT);
+    fprintf(stderr, "   nan: %s\n", g_err);
+    ASSERT_TRUE(strstr(g_err, "vertex 2 (line 3: 'v 1 nan 0') has a non-finite coordinate (nan)") !=
+                NULL);
     snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 -inf\n%s", tet_tail);
     load_text(text, ".obj", VP_ERR_FORMAT);
     ASSERT_TRUE(strstr(g_err, "(-inf)") != NULL);
@@ -327,6 +336,11 @@ static void test_nonfinite(void)
     snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e999\n%s", tet_tail);
     load_text(text, ".obj", VP_ERR_FORMAT);
     ASSERT_TRUE(strstr(g_err, "non-finite") != NULL);
+    /* finite as a double, not as the float Assimp reads */
+    snprintf(text, sizeof text, "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nv 0 0 1\n%s", tet_tail);
+    load_text(text, ".obj", VP_ERR_FORMAT);
+    ASSERT_TRUE(strstr(g_err, "vertex 2 (line 2: 'v 1e39 0 0') has a non-finite coordinate (inf)") !=
+                NULL);
     /* The vertex number: PLY keeps the file's vertex order. */
     const char *ply = "ply\nformat ascii 1.0\nelement vertex 4\n"
                       "property float x\nproperty float y\nproperty float z\n"

@@ -58,12 +58,14 @@ int vp_cli_check(int argc, char **argv) {
     double voxel = 0;
     vp_check_params cp;
     vp_check_params_init(&cp);
+    vp_cli_seen seen = {0};
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 #define NEED()                                                                                 \
     do {                                                                                       \
         if (!v) return vp_cli_die(2, "check: %s needs a value", a);                            \
+        if (vp_cli_once(&seen, "check", a, v)) return 2;                                       \
         i++;                                                                                   \
     } while (0)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {

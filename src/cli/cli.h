@@ -19,6 +19,20 @@ int vp_cli_pack(int argc, char **argv);
  * fuzzer (fuzz/fuzz_options.c). */
 int vp_cli_pack_parse_only(int argc, char **argv);
 
+/* The value options one command line has given: a value option given
+ * twice is refused (`-o a.vdb ... -o b.vdb` kept only the last, and a
+ * script that appends an option to override another would not be told
+ * which one counts). Zero-initialise; aliases (-o and --output, --colour
+ * and --color) count as one option. */
+#define VP_CLI_SEEN_MAX 48
+typedef struct vp_cli_seen {
+    const char *opt[VP_CLI_SEEN_MAX];
+    const char *value[VP_CLI_SEEN_MAX];
+    int n;
+} vp_cli_seen;
+/* 0 the first time opt is given, else the exit status 2 after one line
+ * ("CMD: OPT is given twice ('first' and 'second'); give it once"). */
+int vp_cli_once(vp_cli_seen *s, const char *cmd, const char *opt, const char *value);
 /* 1 when a and b name the same file: the same string, or both exist and
  * are the same inode. */
 int vp_cli_same_file(const char *a, const char *b);

@@ -80,6 +80,7 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
 int vp_cli_convert(int argc, char **argv) {
     const char *in = NULL, *out = NULL, *format = NULL, *shape_name = NULL;
     int quiet = 0, full = 1;
+    vp_cli_seen seen = {0};
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -88,6 +89,7 @@ int vp_cli_convert(int argc, char **argv) {
             return 0;
         } else if (!strcmp(a, "--format") || !strcmp(a, "--shape") || !strcmp(a, "--precision")) {
             if (!v) return vp_cli_die(2, "convert: %s needs a value", a);
+            if (vp_cli_once(&seen, "convert", a, v)) return 2;
             i++;
             if (!strcmp(a, "--format")) {
                 format = v;

@@ -194,10 +194,16 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     o->fit = VP_FIT_INSIDE;
     o->seed = 1;
     int have_radius = 0, have_count = 0;
+    vp_cli_seen seen = {0};
     for (int i = 2; i < argc; i++) {
         const char *a = argv[i], *v = NULL;
         int rc = 0;
-#define VALUE() do { if ((rc = need_value(argc, argv, &i, &v)) != 0) return rc; } while (0)
+        /* every value option once, but --pass (one per pass) */
+#define VALUE()                                                                                \
+    do {                                                                                       \
+        if ((rc = need_value(argc, argv, &i, &v)) != 0) return rc;                             \
+        if (strcmp(a, "--pass") && (rc = vp_cli_once(&seen, "pack", a, v)) != 0) return rc;    \
+    } while (0)
         if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             VALUE();
             o->output = v;

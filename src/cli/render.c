@@ -125,12 +125,14 @@ int vp_cli_render(int argc, char **argv) {
     uint64_t threads = 0;
     vp_render_params rp;
     vp_render_params_init(&rp);
+    vp_cli_seen seen = {0};
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 #define NEED()                                                                                 \
     do {                                                                                       \
         if (!v) return vp_cli_die(2, "render: %s needs a value", a);                           \
+        if (vp_cli_once(&seen, "render", a, v)) return 2;                                      \
         i++;                                                                                   \
     } while (0)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {

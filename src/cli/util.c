@@ -26,6 +26,26 @@ int vp_cli_die(int status, const char *fmt, ...) {
     return status;
 }
 
+static const char *canonical_option(const char *opt) {
+    if (!strcmp(opt, "-o")) return "--output";
+    if (!strcmp(opt, "--color")) return "--colour";
+    return opt;
+}
+
+int vp_cli_once(vp_cli_seen *s, const char *cmd, const char *opt, const char *value) {
+    const char *key = canonical_option(opt);
+    for (int k = 0; k < s->n; k++)
+        if (!strcmp(s->opt[k], key))
+            return vp_cli_die(2, "%s: %s is given twice ('%s' and '%s'); give it once", cmd, opt,
+                              s->value[k], value);
+    if (s->n < VP_CLI_SEEN_MAX) {
+        s->opt[s->n] = key;
+        s->value[s->n] = value;
+        s->n++;
+    }
+    return 0;
+}
+
 int vp_cli_same_file(const char *a, const char *b) {
     if (!a || !b) return 0;
     if (!strcmp(a, b)) return 1;

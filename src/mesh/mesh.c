@@ -209,9 +209,6 @@ static vp_result compute_topology(vp_mesh *m)
 /* ------------------------------------------------------------------ */
 /* Scene to welded mesh.                                               */
 
-/* ------------------------------------------------------------------ */
-/* Scene to welded mesh.                                               */
-
 static const char *nonfinite_name(double v)
 {
     if (isnan(v)) return "nan";
@@ -695,6 +692,56 @@ static vp_result import_failed(const char *name, char *err, size_t errlen)
     return VP_ERR_FORMAT;
 }
 
+static int has_suffix_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && starts_with_ci((const unsigned char *)s + n - k, k, suffix);
+}
+
+/* Assimp's OBJ reader makes one vertex per face corner, so the index that
+ * build_mesh names is not the file's: this finds the first `v` line of an
+ * OBJ file with a coordinate that is not finite as a float (Assimp reads
+ * floats: 1e39 is inf there) and names it as the file does (vertex K is
+ * what `f` lines call K, counting from 1). Returns 0 when none is found. */
+static int obj_nonfinite_vertex(const char *path, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    char *line = NULL;
+    size_t cap = 0, lineno = 0, vert = 0;
+    ssize_t len;
+    int found = 0;
+    while (!found && (len = getline(&line, &cap, f)) >= 0) {
+        ++lineno;
+        const char *c = line;
+        while (*c == ' ' || *c == '\t')
+            ++c;
+        if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t'))
+            continue;
+        ++vert;
+        c += 1;
+        for (int k = 0; k < 3 && !found; ++k) {
+            char *end;
+            double x = strtod(c, &end);
+            if (end == c)
+                break;
+            if (!isfinite((float)x)) {
+                while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r'))
+                    line[--len] = '\0';
+                snprintf(err, errlen,
+                         "%s: vertex %zu (line %zu: '%.60s') has a non-finite coordinate (%s)",
+                         path, vert, lineno, line, nonfinite_name((float)x));
+                found = 1;
+            }
+            c = end;
+        }
+    }
+    free(line);
+    fclose(f);
+    return found;
+}
+
 /* The importers run in a child process (isolate.c): Assimp 5.2 loops
  * forever or aborts on some malformed files, whatever the prechecks. */
 static vp_result import_path(const void *arg, vp_mesh **out, char *err, size_t errlen)
@@ -703,7 +750,11 @@ static vp_result import_path(const void *arg, vp_mesh **out, char *err, size_t e
     const struct aiScene *sc = aiImportFile(path, 0);
     if (!sc)
         return import_failed(path, err, errlen);
-    return finish_import(sc, path, out, err, errlen);
+    vp_result r = finish_import(sc, path, out, err, errlen);
+    if (r == VP_ERR_FORMAT && err && errlen && strstr(err, "non-finite coordinate") &&
+        has_suffix_ci(path, ".obj"))
+        obj_nonfinite_vertex(path, err, errlen);
+    return r;
 }
 
 typedef struct memory_source {

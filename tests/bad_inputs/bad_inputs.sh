@@ -510,6 +510,15 @@ expect_error "convert: csv duplicate id" "dup_id\.csv.*twice" "" -- convert ../d
 expect_error "convert: csv bad group name" "bad_group\.csv.*group" "" -- convert ../bad_group.csv out.ply --shape cube
 expect_error "convert: csv non-unit quaternion" "bad_quat\.csv.*unit quaternion" "" -- convert ../bad_quat.csv out.ply --shape cube
 expect_error "convert: empty csv" "empty\.csv.*empty" "" -- convert ../empty.csv out.ply
+# a value option given twice: the earlier value was lost silently (-o a -o b
+# wrote only b); aliases count as one option; --pass alone repeats
+expect_error "pack: -o twice" "-o is given twice \('a\.vdb' and 'b\.vdb'\)" "" -- pack sphere:1 --radius 0.1 -o a.vdb -o b.vdb
+expect_error "pack: --output then -o" "-o is given twice" "" -- pack sphere:1 --radius 0.1 --output a.vdb -o b.vdb
+expect_error "pack: --radius twice" "--radius is given twice \('0\.1' and '0\.2'\)" "" -- pack sphere:1 --radius 0.1 --radius 0.2 -o out.vdb
+expect_error "pack: --seed twice" "--seed is given twice" "" -- pack sphere:1 --method rsa --radius 0.1 --count 5 --seed 1 --seed 2 -o out.vdb
+expect_error "check: --container twice" "check: --container is given twice" "" -- check ../points.vdb --container sphere:1 --container sphere:2
+expect_error "render: --color then --colour" "render: --colour is given twice \('id' and 'pass'\)" "" -- render ../points.vdb -o out.exr --color id --colour pass
+expect_error "convert: --format twice" "convert: --format is given twice" "" -- convert ../points.vdb out.ply --format ply --format csv
 
 # a failed pack must not clobber an existing output file
 echo "--- existing output survives a failure"
