@@ -41,6 +41,29 @@ assert d['position_error'] > 0, 'fixed16 P should report its position error'
 print('  ok: FCC mean contacts %.2f (12 in the bulk); fixed16 position error %.3g' % (d['mean_contacts'], d['position_error']))" ||
   die "fcc contacts"
 
+# Lattice placements at the edge of what fits (found by an acceptance
+# audit): spheres that touch both walls of a box (simple cubic, radius 0.05
+# in a unit box: 1000 fit; rounding refused the touching ones and the
+# search never tried the aligned offset: 729), and check accepts them;
+# --rotate never ends below the search without it (it tried fewer offsets
+# per orientation: 2399 against 2400 in the peanut); and --count 5 gives 5
+# (it gave 4).
+passes sc_touching box:1,1,1 --lattice sc --radius 0.05
+passes sc_touching_full box:1,1,1 --lattice sc --radius 0.05 --precision full
+passes sc_touching_234 box:2,3,4 --lattice sc --radius 0.25
+passes sc_center box:1,1,1 --lattice sc --radius 0.05 --fit center
+for n in sc_touching:1000 sc_touching_full:1000 sc_touching_234:192 sc_center:1331; do
+  [ "$(jget "${n%%:*}.json" count)" = "${n##*:}" ] || die "${n%%:*}: $(jget "${n%%:*}.json" count) spheres, ${n##*:} fit"
+done
+passes peanut_rotate "$S/peanut.obj" --radius 0.05 --rotate
+[ "$(jget peanut_rotate.json count)" -ge "$(jget peanut.json count)" ] ||
+  die "--rotate placed $(jget peanut_rotate.json count), fewer than $(jget peanut.json count) without it"
+echo "  ok: --rotate $(jget peanut_rotate.json count) >= $(jget peanut.json count) without"
+for n in 1 2 3 5 7; do
+  passes "peanut_count$n" "$S/peanut.obj" --count "$n"
+  [ "$(jget "peanut_count$n.json" count)" = "$n" ] || die "--count $n gave $(jget "peanut_count$n.json" count)"
+done
+
 echo "=== violations made with vdb_ax are caught"
 viol() { # NAME SRC FIELD SNIPPET (vdb_ax)
   local name=$1 src=$2 field=$3 code=$4

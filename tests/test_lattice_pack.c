@@ -64,6 +64,40 @@ static void test_sc_in_box_finds_aligned_placement(void) {
     vp_container_destroy(c);
 }
 
+/* Spheres that touch both walls: a box whose sides are whole multiples of
+ * the spacing holds exactly (L / 2r)^3 (or one more per axis with fit
+ * center). That placement is a single point of the offset cell, and the
+ * touching spheres sit at d = -r up to rounding: it gave 729 of 1000. */
+static void test_sc_touching_both_walls(void) {
+    const struct { double hx, hy, hz, r; vp_fit fit; size_t want; } cases[] = {
+        {0.5, 0.5, 0.5, 0.05, VP_FIT_INSIDE, 1000},
+        {1.0, 1.5, 2.0, 0.25, VP_FIT_INSIDE, 4 * 6 * 8},
+        {0.5, 0.5, 0.5, 0.05, VP_FIT_CENTER, 11 * 11 * 11},
+        {40.0, 40.0, 40.0, 4.0, VP_FIT_INSIDE, 1000},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        double lo[3] = {-cases[k].hx, -cases[k].hy, -cases[k].hz};
+        double hi[3] = {cases[k].hx, cases[k].hy, cases[k].hz};
+        vp_container *c = NULL;
+        ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+        vp_lattice_report rep;
+        double r = cases[k].r;
+        vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_SC, cases[k].fit, r, 0, &rep);
+        fprintf(stderr, "   box %gx%gx%g r %g: %zu (%zu fit)\n", 2 * cases[k].hx, 2 * cases[k].hy,
+                2 * cases[k].hz, r, p->count, cases[k].want);
+        ASSERT_EQ_INT(p->count, cases[k].want);
+        double shrink = cases[k].fit == VP_FIT_INSIDE ? r : 0.0;
+        for (size_t i = 0; i < p->count; i++)
+            for (int a = 0; a < 3; a++) { /* within rounding of the wall */
+                ASSERT_GE(p->positions[3 * i + a], lo[a] + shrink - 1e-12 * cases[k].hz);
+                ASSERT_LE(p->positions[3 * i + a], hi[a] - shrink + 1e-12 * cases[k].hz);
+            }
+        ASSERT_NEAR(min_pair_distance(p), 2 * r, 1e-9 * r);
+        vp_particles_destroy(p);
+        vp_container_destroy(c);
+    }
+}
+
 /* A level set's values stop at its interior band: deeper points read the
  * band's depth. A sphere of radius R whose distance is clamped so, with the
  * band 2.5 r deep (the band vdbpack sizes for r at voxel r/2), stands in for
@@ -202,6 +236,35 @@ static void test_count_mode_within_two_percent(void) {
     vp_container_destroy(c);
 }
 
+/* Small counts move in whole steps: the radius search brackets N and
+ * bisects, and never settles on a radius where nothing fits. --count 5 in
+ * a sphere is 5 (the r^-3 steps alone gave 4 in the peanut); one sphere in
+ * a 1 x 2 x 3 box is one (the search failed: it stepped to radius 0.71,
+ * where none fits, and kept it as the closest to 1). */
+static void test_count_mode_small_counts(void) {
+    double c0[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 1.0, &c), VP_OK);
+    for (size_t n = 1; n <= 7; n++) {
+        vp_lattice_report rep;
+        vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, n, &rep);
+        ASSERT_EQ_INT(p->count, n);
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+    double lo[3] = {-0.5, -1, -1.5}, hi[3] = {0.5, 1, 1.5};
+    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    size_t wants[] = {1, 4, 5, 17, 23};
+    for (int i = 0; i < 5; i++) {
+        vp_lattice_report rep;
+        vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, wants[i], &rep);
+        fprintf(stderr, "   box 1x2x3 --count %zu: %zu\n", wants[i], p->count);
+        ASSERT_EQ_INT(p->count, wants[i]);
+        vp_particles_destroy(p);
+    }
+    vp_container_destroy(c);
+}
+
 static void test_same_output_for_any_thread_count(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
@@ -249,6 +312,8 @@ int main(void) {
     RUN_TEST(test_fit_center_admits_more_than_inside);
     RUN_TEST(test_solids_every_vertex_inside_and_no_overlap);
     RUN_TEST(test_count_mode_within_two_percent);
+    RUN_TEST(test_count_mode_small_counts);
+    RUN_TEST(test_sc_touching_both_walls);
     RUN_TEST(test_same_output_for_any_thread_count);
     RUN_TEST(test_refusals);
     RUN_TEST(test_search_with_a_shallow_band);

@@ -618,9 +618,15 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
         const vp_lattice_report *l = &rr->lat;
         printf("  placement: %d offsets tried over %d orientation%s", l->offsets_tried,
                l->rotations_tried, l->rotations_tried == 1 ? "" : "s");
-        if (o->count)
+        if (o->count) {
             printf(", %d %s tried for --count %llu", l->radius_iterations,
                    l->radius_iterations == 1 ? "radius" : "radii", (unsigned long long)o->count);
+            double off = fabs((double)l->count - (double)o->count);
+            if (off > 0.02 * (double)o->count)
+                printf(" (%zu is the closest count found: with few particles, or layers "
+                       "in a box, the count jumps as the radius changes)",
+                       l->count);
+        }
         printf("\n  packing fraction %.4f (the infinite lattice: %.4f)\n", fraction,
                l->lattice_fraction);
     } else if (!strcmp(o->method, "rsa")) {

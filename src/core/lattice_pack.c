@@ -34,6 +34,7 @@ typedef struct setup {
     int nsites;
     double sites[2][3];        /* world site offsets */
     double lo[3], hi[3];       /* box that holds every admissible centre */
+    double tol;                /* rounding allowed at the wall (setup_build) */
     double thr_in;             /* d <= thr_in - m: in for every offset */
     double thr_out;            /* d >  thr_out + m: out for every offset */
     const vp_depth_map *dm;    /* coarse depth bounds, or NULL (depth_map.h) */
@@ -100,19 +101,46 @@ static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis 
     } else if (fit == VP_FIT_INSIDE) {
         shrink = r;
     }
+    /* Touching the wall counts as inside, up to rounding: a lattice point
+     * computed as o + n b is off by a few ulps of the coordinates, which
+     * made spheres that touch both walls of a box (radius 0.05 in a unit
+     * box, simple cubic: 1000 fit) fail d <= -r and gave 729. The
+     * tolerance, 1e-12 of the container's coordinates, is far below what
+     * vdbpack check allows at the wall (1e-9, or a tenth of a voxel, plus
+     * the stored positions' rounding). */
+    double scale = r;
     for (int i = 0; i < 3; i++) {
-        s->lo[i] = c->info.bmin[i] + shrink;
-        s->hi[i] = c->info.bmax[i] - shrink;
+        double a = fmax(fabs(c->info.bmin[i]), fabs(c->info.bmax[i]));
+        if (a > scale) scale = a;
+    }
+    double tol = s->tol = 1e-12 * scale;
+    for (int i = 0; i < 3; i++) {
+        s->lo[i] = c->info.bmin[i] + shrink - tol;
+        s->hi[i] = c->info.bmax[i] - shrink + tol;
     }
     if (fit == VP_FIT_CENTER) {
-        s->thr_in = 0.0;
-        s->thr_out = 0.0;
+        s->thr_in = tol;
+        s->thr_out = tol;
     } else if (!poly) {
-        s->thr_in = -r;
-        s->thr_out = -r;
+        s->thr_in = -r + tol;
+        s->thr_out = -r + tol;
     } else {
-        s->thr_in = -r;   /* circumsphere inside: wholly inside */
-        s->thr_out = 0.0; /* centroid outside: not inside */
+        s->thr_in = -r + tol; /* circumsphere inside: wholly inside */
+        s->thr_out = 0.0;     /* centroid outside: not inside */
+    }
+}
+
+/* Lattice coordinates that put a lattice point on the low corner of the
+ * box of admissible centres (bmin + r with fit inside): with a box
+ * container whose sides are whole multiples of the spacing, that is the
+ * placement where particles touch both walls, which no sampled offset
+ * finds (it is a single point of the cell). */
+static void corner_offset(const setup *s, double u[3]) {
+    double p[3];
+    for (int i = 0; i < 3; i++) p[i] = s->lo[i] + s->tol - s->sites[0][i];
+    for (int k = 0; k < 3; k++) {
+        double t = s->binv[k][0] * p[0] + s->binv[k][1] * p[1] + s->binv[k][2] * p[2];
+        u[k] = t - floor(t);
     }
 }
 
@@ -415,6 +443,7 @@ typedef struct search_cfg {
     vp_context *ctx;
     const vp_depth_map *dm; /* or NULL */
     long slab_stride;       /* > 1: estimate counts from every k-th slab */
+    const struct search_cfg *plain; /* also run (see search), or NULL */
 } search_cfg;
 
 /* Point tests the automatic search may spend per stage (about
@@ -434,7 +463,8 @@ static int eval_many(const setup *s, const classified *cl, const double (*u)[3],
     return 0;
 }
 
-static vp_result search(const search_cfg *cfg, double r, placement *best, search_stats *st) {
+static vp_result search_once(const search_cfg *cfg, double r, placement *best,
+                             search_stats *st) {
     uint64_t rng = cfg->seed ^ 0x5EEDull;
     memset(best, 0, sizeof *best);
     best->q[3] = 1.0;
@@ -462,6 +492,7 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
         setup s;
         setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->fit, r, q);
         s.dm = cfg->dm;
+        if (noff > 1) corner_offset(&s, u[1]); /* in place of the sequence's first after 0 */
         classified cl;
         double m = noff > 1 ? covering_bound(&s) : 0.0;
         if (cfg->c->info.voxel_size > 0) m += 0.05 * cfg->c->info.voxel_size;
@@ -566,6 +597,21 @@ static vp_result search(const search_cfg *cfg, double r, placement *best, search
     free(u);
     free(counts);
     return VP_OK;
+}
+
+/* The search of cfg, and then of cfg->plain if set, keeping the better
+ * (the plain one on a tie). --rotate tries each orientation with fewer
+ * offsets (32, not 128), so on its own it could end below the identity's
+ * own search (2399 against 2400 spheres of radius 0.05 in the peanut):
+ * with the search without --rotate run too, asking for rotations never
+ * loses particles. */
+static vp_result search(const search_cfg *cfg, double r, placement *best, search_stats *st) {
+    vp_result res = search_once(cfg, r, best, st);
+    if (res != VP_OK || !cfg->plain) return res;
+    placement p;
+    res = search_once(cfg->plain, r, &p, st);
+    if (res == VP_OK && p.count >= best->count) *best = p;
+    return res;
 }
 
 /* --- final generation ------------------------------------------------------ */
@@ -742,6 +788,14 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
         cfg.budgeted = 1;
     }
 
+    /* with --rotate, also the search that runs without it (search) */
+    search_cfg plain = cfg;
+    if (cfg.rotations > 1) {
+        plain.rotations = 1;
+        if (params->offsets == 0) plain.offsets = 128;
+        cfg.plain = &plain;
+    }
+
     vp_lattice_report rep;
     memset(&rep, 0, sizeof rep);
     placement best;
@@ -753,6 +807,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     quick.rotations = 1;
     quick.refine = 0;
     quick.budgeted = 0;
+    quick.plain = NULL;
     /* the first count of a large packing only steps the radius (below):
      * an estimate from every 4th slab is within a few in 10^4 */
     if (count_mode && params->count >= 1e5 && (cfg.offsets > 1 || cfg.rotations > 1))
@@ -766,6 +821,13 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
          * a lot of them in small packings) with the full search, which for
          * large packings is already within 1 % on its first try. */
         double target = (double)params->count;
+        /* phase 0's closest, when it was measured exactly (not the large
+         * packing's estimate): the full search maximises the count at each
+         * radius, so it may never come as close (one sphere asked in
+         * box:1,2,3: it finds 3 up to radius 0.5 and none beyond) */
+        int kept = 0;
+        double kept_r = r, kept_err = HUGE_VAL;
+        placement kept_p = best;
         for (int phase = 0; phase < 2; phase++) {
             const search_cfg *sc = phase ? &cfg : &quick;
             if (phase) {
@@ -773,7 +835,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 res = search(&cfg, r, &best, &st);
                 if (res != VP_OK) goto fail;
             }
-            double best_r = r, best_err = fabs((double)best.count - target);
+            double best_r = r, best_err = best.count ? fabs((double)best.count - target) : HUGE_VAL;
             placement best_p = best;
             if (phase == 0 && target >= 1e5 && (cfg.offsets > 1 || cfg.rotations > 1)) {
                 /* A large packing: the full search follows and counts
@@ -787,16 +849,34 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 quick.slab_stride = 1;
                 continue;
             }
-            for (int it = 0; it < 16 && best_err > 0.01 * target; it++) {
-                double nr = radius_step(c, params->fit, r, best.count, target);
+            /* the largest radius seen whose count reached the target and
+             * the smallest whose count fell short: a bracket for the
+             * bisection below */
+            double lo_r = best.count >= target ? r : 0, hi_r = best.count < target ? r : HUGE_VAL;
+            for (int it = 0; it < 48 && best_err > 0.01 * target; it++) {
+                double nr;
+                nr = radius_step(c, params->fit, r, best.count, target);
+                if (lo_r > 0 && hi_r < HUGE_VAL && (it >= 16 || !(nr > lo_r && nr < hi_r))) {
+                    /* Small counts move in steps of one or more, so the
+                     * r^-3 model overshoots or stalls around them (5 on
+                     * the peanut gave 4): bisect the bracket instead. */
+                    if (hi_r - lo_r <= 1e-9 * hi_r) break;
+                    nr = 0.5 * (lo_r + hi_r);
+                } else if (it >= 16) {
+                    break;
+                }
                 if (nr == r) break;
                 r = nr;
                 if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
                 res = search(sc, r, &best, &st);
                 if (res != VP_OK) goto fail;
                 rep.radius_iterations++;
-                double e = fabs((double)best.count - target);
-                if (e < best_err) {
+                if (best.count >= target && r > lo_r) lo_r = r;
+                if (best.count < target && r < hi_r) hi_r = r;
+                /* no particle at all is never the answer */
+                double e = best.count ? fabs((double)best.count - target) : HUGE_VAL;
+                /* equally close: the count above the target (at least N) */
+                if (e < best_err || (e == best_err && best.count > best_p.count)) {
                     best_err = e;
                     best_r = r;
                     best_p = best;
@@ -804,6 +884,15 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
             }
             r = best_r;
             best = best_p;
+            if (phase == 0) {
+                kept = 1;
+                kept_r = r;
+                kept_err = best_err;
+                kept_p = best;
+            } else if (kept && kept_err < best_err) {
+                r = kept_r;
+                best = kept_p;
+            }
         }
     }
     setup s;
