@@ -853,14 +853,16 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
              * the smallest whose count fell short: a bracket for the
              * bisection below */
             double lo_r = best.count >= target ? r : 0, hi_r = best.count < target ? r : HUGE_VAL;
-            for (int it = 0; it < 48 && best_err > 0.01 * target; it++) {
-                double nr;
-                nr = radius_step(c, params->fit, r, best.count, target);
+            /* full searches (phase 1) cost far more than quick ones */
+            int max_it = phase ? 16 : 48;
+            for (int it = 0; it < max_it && best_err > 0.01 * target; it++) {
+                double nr = radius_step(c, params->fit, r, best.count, target);
                 if (lo_r > 0 && hi_r < HUGE_VAL && (it >= 16 || !(nr > lo_r && nr < hi_r))) {
                     /* Small counts move in steps of one or more, so the
                      * r^-3 model overshoots or stalls around them (5 on
                      * the peanut gave 4): bisect the bracket instead. */
-                    if (hi_r - lo_r <= 1e-9 * hi_r) break;
+                    /* a jump in the count (a layer): no radius between */
+                    if (hi_r - lo_r <= 1e-6 * hi_r) break;
                     nr = 0.5 * (lo_r + hi_r);
                 } else if (it >= 16) {
                     break;
