@@ -137,4 +137,34 @@ grep -q "warning: far.ply: PLY stores positions as 32-bit floats" far.err || die
 echo "  ok: $(cat far.err)"
 "$VDBPACK" pack box:1,1,1 --radius 0.05 -o near.ply 2>near.err >/dev/null
 [ ! -s near.err ] || die "a warning near the origin: $(cat near.err)"
+echo "=== outputs that are not regular files"
+# A symbolic link is followed (its file replaced, the link kept); a device
+# or FIFO is written through, never replaced: before, -o /dev/null --format
+# csv replaced the system's /dev/null with a 42 KB file (the write goes to a
+# temporary file that is renamed onto the target).
+echo old >real.csv; ln -s real.csv link.csv; ln -s later.csv dangling.csv
+"$VDBPACK" pack sphere:1 --radius 0.1 -q -o link.csv || die "-o link.csv"
+"$VDBPACK" pack sphere:1 --radius 0.1 -q -o dangling.csv || die "-o dangling.csv"
+[ -L link.csv ] && [ -L dangling.csv ] || die "a symbolic link was replaced"
+"$VDBPACK" pack sphere:1 --radius 0.1 -q -o direct.csv
+cmp -s real.csv direct.csv && cmp -s later.csv direct.csv || die "the links' files do not hold the output"
+echo "  ok: links kept, their files written"
+mkfifo fifo.csv
+cat fifo.csv >from_fifo.csv & reader=$!
+"$VDBPACK" pack sphere:1 --radius 0.1 -q -o fifo.csv || die "-o fifo.csv"
+wait "$reader"
+[ -p fifo.csv ] || die "the FIFO was replaced"
+cmp -s from_fifo.csv direct.csv || die "the FIFO's reader did not get the output"
+echo "  ok: FIFO written through ($(wc -c <from_fifo.csv) bytes read from it)"
+if mknod -m 666 null c 1 3 2>/dev/null && mknod -m 666 full c 1 7 2>/dev/null; then
+  "$VDBPACK" pack sphere:1 --radius 0.1 -q -o null --format csv || die "-o null (a device)"
+  [ -c null ] || die "the device null was replaced by a file"
+  rc=0; "$VDBPACK" pack sphere:1 --radius 0.1 -q -o full --format vdb 2>full.err || rc=$?
+  [ "$rc" = 1 ] && [ "$(wc -l <full.err)" = 1 ] && grep -q "full: cannot write output (No space left on device)" full.err ||
+    die "-o full (like /dev/full): exit $rc: $(cat full.err)"
+  [ -c full ] || die "the device full was replaced by a file"
+  echo "  ok: devices written through: null, and full: $(cat full.err)"
+else
+  echo "  (mknod not permitted: device outputs not tested)"
+fi
 echo "PASS: sh_export"

@@ -3,6 +3,8 @@
 #include "core/context.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -42,6 +44,38 @@ void vp_remove_partial_outputs(void) {
         if (atomic_load(&g_temp_used[i]) == 2) unlink(g_temp[i]);
 }
 
+/* The file a symbolic link at path names (links followed up to 40 deep,
+ * as the kernel does), in out; 0, or -1 when the chain is too long or a
+ * name too long. A dangling link names the file it would create. */
+static int follow_links(const char *path, char *out, size_t outlen) {
+    char cur[4096];
+    if (strlen(path) >= sizeof cur) return -1;
+    strcpy(cur, path);
+    for (int depth = 0; depth < 40; depth++) {
+        struct stat st;
+        if (lstat(cur, &st) != 0 || !S_ISLNK(st.st_mode)) {
+            if (strlen(cur) >= outlen) return -1;
+            strcpy(out, cur);
+            return 0;
+        }
+        char link[4096];
+        ssize_t n = readlink(cur, link, sizeof link - 1);
+        if (n < 0) return -1;
+        link[n] = 0;
+        char next[4096];
+        const char *slash = strrchr(cur, '/');
+        if (link[0] == '/' || !slash) {
+            if ((size_t)n >= sizeof next) return -1;
+            strcpy(next, link);
+        } else {
+            int w = snprintf(next, sizeof next, "%.*s/%s", (int)(slash - cur), cur, link);
+            if (w < 0 || (size_t)w >= sizeof next) return -1;
+        }
+        strcpy(cur, next);
+    }
+    return -1;
+}
+
 vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     memset(a, 0, sizeof *a);
     a->slot = -1;
@@ -52,7 +86,16 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output: it is a directory", path);
-    memcpy(a->final_path, path, n + 1);
+    /* a link is followed: renaming onto it would replace the link itself */
+    char target[4096];
+    if (follow_links(path, target, sizeof a->final_path - 32) != 0)
+        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(ELOOP));
+    n = strlen(target);
+    /* a device or FIFO is written through (-o /dev/null must not replace
+     * the system's /dev/null with a file) */
+    a->through = stat(target, &st) == 0 && !S_ISREG(st.st_mode);
+    memcpy(a->final_path, target, n + 1);
+    path = a->final_path;
     const char *slash = strrchr(path, '/');
     char dir[4096];
     if (slash) {
@@ -66,7 +109,17 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output: directory %s does not exist",
                        path, dir);
-    snprintf(a->tmp_path, sizeof a->tmp_path, "%s/.%s.tmp-XXXXXX", dir, slash ? slash + 1 : path);
+    int w;
+    if (a->through) /* not beside a device: /dev may not take files */
+        w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/vdbpack-out.tmp-XXXXXX",
+                     getenv("TMPDIR") && *getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+    else
+        w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/.%s.tmp-XXXXXX", dir,
+                     slash ? slash + 1 : path);
+    if (w < 0 || (size_t)w >= sizeof a->tmp_path) {
+        a->tmp_path[0] = 0;
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
+    }
     int fd = mkstemp(a->tmp_path);
     if (fd < 0) {
         int e = errno;
@@ -78,12 +131,51 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     return VP_OK;
 }
 
+/* Copies the finished temporary file into a target that is not a regular
+ * file, then removes it. A short write (ENOSPC from /dev/full) is an error. */
+static vp_result copy_through(vp_context *ctx, vp_atomic *a) {
+    int in = open(a->tmp_path, O_RDONLY);
+    int out = in < 0 ? -1 : open(a->final_path, O_WRONLY);
+    int e = errno;
+    vp_result r = VP_OK;
+    if (in < 0 || out < 0) {
+        r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(e));
+    } else {
+        char buf[1 << 16];
+        ssize_t got;
+        while (r == VP_OK && (got = read(in, buf, sizeof buf)) != 0) {
+            if (got < 0) {
+                if (errno == EINTR) continue;
+                r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
+                            strerror(errno));
+                break;
+            }
+            for (ssize_t off = 0; off < got && r == VP_OK;) {
+                ssize_t w = write(out, buf + off, (size_t)(got - off));
+                if (w < 0 && errno == EINTR) continue;
+                if (w <= 0)
+                    r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
+                                strerror(w < 0 ? errno : ENOSPC));
+                else
+                    off += w;
+            }
+        }
+    }
+    if (out >= 0 && close(out) != 0 && r == VP_OK)
+        r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
+                    strerror(errno));
+    if (in >= 0) close(in);
+    vp_atomic_abort(a);
+    return r;
+}
+
 vp_result vp_atomic_commit(vp_context *ctx, vp_atomic *a) {
     struct stat st;
     if (stat(a->tmp_path, &st) != 0 || st.st_size == 0) {
         vp_atomic_abort(a);
         return vp_fail(ctx, VP_ERR_IO, "%s: writing failed (nothing was written)", a->final_path);
     }
+    if (a->through) return copy_through(ctx, a);
     /* mkstemp makes 0600 files; outputs should follow the umask like any file */
     mode_t um = umask(0);
     umask(um);

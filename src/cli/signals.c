@@ -7,6 +7,7 @@
 #include "vdbpack/vdbpack.h"
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -61,6 +62,10 @@ void vp_cli_signals_install(void) {
 int vp_cli_interrupted(void) { return (int)g_signal; }
 
 void vp_cli_signals_track_output(const char *path) {
+    /* only a regular file this run made is removed: never a device or
+     * FIFO written through (-o /dev/null), nor a symbolic link */
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode)) return;
     for (int i = 0; i < MAX_TRACKED; i++)
         if (!g_outputs[i]) {
             g_outputs[i] = path;
