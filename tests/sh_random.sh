@@ -133,6 +133,11 @@ bad 2 "empty field" box:1,1,1 --method rsa --pass count=10,radius=0.1,
 bad 2 "empty field" box:1,1,1 --method rsa --pass count=10,,radius=0.1
 bad 2 "count is given twice" box:1,1,1 --method rsa --pass count=10,radius=0.1,count=5
 bad 2 "grow is given twice" box:1,1,1 --method rsa --pass count=10,radius=0.1,grow,grow
+# one group name for two passes (pack wrote .csv with the groups merged and
+# refused .vdb after packing); OpenVDB's own names start with __
+bad 2 "passes 1 and 2 would both be group 'pass2'" box:1,1,1 --method rsa --pass count=5,radius=0.1,name=pass2 --pass count=5,radius=0.05
+bad 2 "passes 1 and 2 would both be group 'big'" box:1,1,1 --method rsa --pass count=5,radius=0.1,name=big --pass count=5,radius=0.05,name=big
+bad 2 "not starting with __" box:1,1,1 --method rsa --pass count=5,radius=0.1,name=__group
 # radii are stored as float: below its smallest normal value they would be 0
 bad 2 "1.2e-38" box:1,1,1 --method rsa --pass count=10,radius=1e-46
 bad 2 "1.2e-38" box:1,1,1 --method rsa --pass count=10,radius=1e-300

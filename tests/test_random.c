@@ -290,6 +290,25 @@ static void test_rsa_retries_and_no_fit(void) {
     ps.retries = -1;
     vp_size_dist_constant(&ps.radius, 0.1);
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_INVALID_ARGUMENT);
+    /* two passes of one group name (the first named pass2, the second
+     * pass2 by default) are refused before packing: the .vdb writer
+     * refused them after it, and CSV merged the two groups */
+    vp_rsa_pass two[2];
+    vp_rsa_pass_init(&two[0]);
+    vp_rsa_pass_init(&two[1]);
+    vp_size_dist_constant(&two[0].radius, 0.1);
+    vp_size_dist_constant(&two[1].radius, 0.05);
+    two[0].count = two[1].count = 5;
+    snprintf(two[0].name, sizeof two[0].name, "pass2");
+    rp.passes = two;
+    rp.npasses = 2;
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_TRUE(p == NULL);
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "passes 1 and 2 have one group name, 'pass2'"));
+    snprintf(two[0].name, sizeof two[0].name, "big");
+    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_TRUE(!strcmp(p->group_names[0], "big") && !strcmp(p->group_names[1], "pass2"));
+    vp_particles_destroy(p);
     vp_container_destroy(c);
 }
 

@@ -164,6 +164,19 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
                                  "count=N,radius=R,grow)");
         }
         for (int i = 0; i < o->npasses; i++) {
+            /* each pass its own point group: a name=passK given to another
+             * pass than the K-th made two groups of one name, which the
+             * .vdb writer refused after packing and CSV merged */
+            char ni[32], nk[32];
+            snprintf(ni, sizeof ni, "%s", o->passes[i].name);
+            if (!ni[0]) snprintf(ni, sizeof ni, "pass%d", i + 1);
+            for (int k = 0; k < i; k++) {
+                snprintf(nk, sizeof nk, "%s", o->passes[k].name);
+                if (!nk[0]) snprintf(nk, sizeof nk, "pass%d", k + 1);
+                if (!strcmp(nk, ni))
+                    return vp_cli_die(2, "pack: passes %d and %d would both be group '%s'; give "
+                                         "each pass its own name=", k + 1, i + 1, ni);
+            }
             if (o->retries && !o->passes[i].retries) o->passes[i].retries = (int)o->retries;
             if (o->passes[i].maximal && o->passes[i].radius.kind != VP_SIZE_CONSTANT)
                 return vp_cli_die(2, "pack: pass %d: count=max needs a single radius, not a "
@@ -515,9 +528,9 @@ static void passes_text(const pack_opts *o, char *out, size_t outlen) {
         vp_size_dist_format(&ps->radius, sz, sizeof sz);
         if (ps->maximal) snprintf(cnt, sizeof cnt, "max");
         else snprintf(cnt, sizeof cnt, "%zu", ps->count);
-        int n = snprintf(out + at, outlen - at, "%scount=%s,radius=%s,retries=%d%s", i ? ";" : "",
-                         cnt, sz, ps->retries ? ps->retries : VP_RSA_DEFAULT_RETRIES,
-                         ps->grow ? ",grow" : "");
+        int n = snprintf(out + at, outlen - at, "%scount=%s,radius=%s,retries=%d%s%s%s",
+                         i ? ";" : "", cnt, sz, ps->retries ? ps->retries : VP_RSA_DEFAULT_RETRIES,
+                         ps->grow ? ",grow" : "", ps->name[0] ? ",name=" : "", ps->name);
         if (n < 0) break;
         at += (size_t)n;
         if (at >= outlen) break;

@@ -18,8 +18,10 @@ int vp_cli_parse_sizes(const char *opt, const char *text, vp_size_dist *out) {
     return rc;
 }
 
+/* Letters, digits and _, not starting with "__" (OpenVDB's own attribute
+ * names, such as its group attribute "__group", start so). */
 static int valid_group_name(const char *s) {
-    if (!*s || strlen(s) >= VP_GROUP_NAME_MAX) return 0;
+    if (!*s || strlen(s) >= VP_GROUP_NAME_MAX || !strncmp(s, "__", 2)) return 0;
     for (; *s; s++)
         if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
               *s == '_'))
@@ -75,8 +77,8 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
             out->grow = 1;
         } else if (!strcmp(tok, "name")) {
             if (!val || !valid_group_name(val))
-                return vp_cli_die(2, "pack: --pass '%s': name must be 1-31 letters, digits or _",
-                                  text);
+                return vp_cli_die(2, "pack: --pass '%s': name must be 1-31 letters, digits or "
+                                     "_, not starting with __", text);
             snprintf(out->name, sizeof out->name, "%s", val);
         }
     }

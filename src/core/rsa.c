@@ -51,6 +51,14 @@ void vp_rsa_pass_init(vp_rsa_pass *p) {
     vp_size_dist_constant(&p->radius, 1.0);
 }
 
+/* The group of pass i: its name, else "pass<i + 1>", in buf (at least
+ * VP_GROUP_NAME_MAX bytes). */
+static const char *group_name(const vp_rsa_params *params, size_t i, char *buf) {
+    if (params->passes[i].name[0]) return params->passes[i].name;
+    snprintf(buf, VP_GROUP_NAME_MAX, "pass%zu", i + 1);
+    return buf;
+}
+
 void vp_rsa_params_init(vp_rsa_params *p) {
     memset(p, 0, sizeof *p);
     p->fit = VP_FIT_INSIDE;
@@ -1506,6 +1514,14 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         if (!ps->maximal && ps->count == 0)
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: count must be > 0",
                            i + 1);
+        for (size_t k = 0; k < i; k++) { /* each pass its own group */
+            char bk[VP_GROUP_NAME_MAX], bi[VP_GROUP_NAME_MAX];
+            const char *nk = group_name(params, k, bk), *ni = group_name(params, i, bi);
+            if (!strcmp(nk, ni))
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               "rsa: passes %zu and %zu have one group name, '%s'", k + 1, i + 1,
+                               ni);
+        }
         if (a < rmin) rmin = a;
         if (b > rmax) rmax = b;
         double n = ps->maximal ? 0.4 * ci->volume / (unit_volume * a * a * a)
@@ -1633,10 +1649,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.p->mesh = s.mesh;
     s.p->group_count = (unsigned)params->npasses;
     for (size_t i = 0; i < params->npasses; i++) {
-        if (params->passes[i].name[0])
-            snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "%s", params->passes[i].name);
-        else
-            snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "pass%zu", i + 1);
+        char b[VP_GROUP_NAME_MAX];
+        snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "%s", group_name(params, i, b));
     }
     size_t grid_cells = (size_t)(2.0 * estimate) + 4096;
     if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0 ||
