@@ -86,8 +86,8 @@ int vp_cli_check(int argc, char **argv) {
             double x;
             if (vp_cli_parse_double(v, &x) != 0 || x < 0 ||
                 (!strcmp(a, "--voxel-size") && !(x > 0)))
-                return vp_cli_die(2, "check: %s must be a number >= 0%s, not '%s'", a,
-                                  strcmp(a, "--voxel-size") ? "" : " (and > 0)", v);
+                return vp_cli_die(2, "check: %s must be a number %s, not '%s'", a,
+                                  strcmp(a, "--voxel-size") ? ">= 0" : "> 0", v);
             if (!strcmp(a, "--overlap-tolerance")) cp.overlap_tolerance = x;
             else if (!strcmp(a, "--contact-tolerance")) cp.contact_tolerance = x;
             else if (!strcmp(a, "--wall-tolerance")) cp.wall_tolerance = x;
@@ -113,8 +113,8 @@ int vp_cli_check(int argc, char **argv) {
         }
 #undef NEED
     }
-    if (!file) return vp_cli_die(2, "check: no file given (see vdbpack check --help)");
-    if (!cont) return vp_cli_die(2, "check: no container given: use --container C");
+    if (!file || !*file) return vp_cli_die(2, "check: no file given (see vdbpack check --help)");
+    if (!cont || !*cont) return vp_cli_die(2, "check: no container given: use --container C");
 
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
@@ -167,6 +167,11 @@ int vp_cli_check(int argc, char **argv) {
                                "with positive sizes)", cont);
         goto done;
     }
+    if (an > 0 && (voxel > 0 || grid)) {
+        status = vp_cli_die(2, "check: --voxel-size and --grid need a mesh or .vdb container, "
+                               "not '%s'", cont);
+        goto done;
+    }
     if (an == 0) {
         vp_container_params kp;
         vp_container_params_init(&kp);
@@ -204,8 +209,9 @@ int vp_cli_check(int argc, char **argv) {
                rep.contact_pairs, rep.mean_contacts, cp.contact_tolerance, bad ? "false" : "true",
                rep.seconds);
     } else if (!quiet) {
-        printf("vdbpack check %s: %zu %ss against %s (fit %s)\n", file, rep.count,
-               vp_shape_name(p->shape), cont, fit);
+        char what[96];
+        vp_cli_shape_count(what, sizeof what, rep.count, p->shape);
+        printf("vdbpack check %s: %s against %s (fit %s)\n", file, what, cont, fit);
         printf("  overlaps: %zu pairs beyond %.3g of %s (largest %.3g, %.3g world)\n",
                rep.overlapping_pairs, cp.overlap_tolerance,
                p->shape == VP_SHAPE_SPHERE ? "r_i + r_j" : "the smaller radius", rep.max_overlap,

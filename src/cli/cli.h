@@ -33,6 +33,11 @@ typedef struct vp_cli_seen {
 /* 0 the first time opt is given, else the exit status 2 after one line
  * ("CMD: OPT is given twice ('first' and 'second'); give it once"). */
 int vp_cli_once(vp_cli_seen *s, const char *cmd, const char *opt, const char *value);
+/* "12 icosahedra", "1 cube", "357 mesh shapes": the count and the shape's
+ * noun, in buf (returned). */
+int vp_cli_shape_count(char *buf, size_t len, size_t count, int shape);
+/* "icosahedra", "mesh shapes", ... */
+const char *vp_cli_shape_plural(int shape);
 /* 1 when a and b name the same file: the same string, or both exist and
  * are the same inode. */
 int vp_cli_same_file(const char *a, const char *b);

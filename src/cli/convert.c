@@ -114,7 +114,7 @@ int vp_cli_convert(int argc, char **argv) {
             return vp_cli_die(2, "convert: more than two files given ('%s')", a);
         }
     }
-    if (!in || !out)
+    if (!in || !out || !*in || !*out)
         return vp_cli_die(2, "convert: give an input and an output file (see vdbpack convert --help)");
     vp_shape shape = VP_SHAPE_SPHERE;
     if (shape_name && vp_shape_parse(shape_name, &shape) != 0)
@@ -128,6 +128,10 @@ int vp_cli_convert(int argc, char **argv) {
     int out_fmt = 0;
     int rc = vp_cli_output_format("convert", out, format, &out_fmt);
     if (rc) return rc;
+    /* in place, the input's pack metadata (seed, passes, command line)
+     * would be lost with the file it is read from */
+    if (vp_cli_same_file(in, out))
+        return vp_cli_die(2, "convert: the output is the input ('%s'); give another name", out);
 
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
@@ -185,10 +189,12 @@ int vp_cli_convert(int argc, char **argv) {
     status = vp_cli_finish_output(
         ctx, vp_cli_write_particles(ctx, out, out_fmt, p, &wp, quiet) != 0, out);
     if (status) goto done;
-    if (!quiet)
-        printf("vdbpack: converted %zu %s%s from %s (%s) to %s (%s)\n", p->count,
-               vp_shape_name(p->shape), p->count == 1 ? "" : "s", in, vp_format_name(in_fmt), out,
-               vp_format_name((vp_format)out_fmt));
+    if (!quiet) {
+        char what[96];
+        vp_cli_shape_count(what, sizeof what, p->count, p->shape);
+        printf("vdbpack: converted %s from %s (%s) to %s (%s)\n", what, in,
+               vp_format_name(in_fmt), out, vp_format_name((vp_format)out_fmt));
+    }
     status = 0;
 done:
     vp_particles_destroy(p);

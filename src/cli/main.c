@@ -143,7 +143,7 @@ static int cmd_info(int argc, char **argv) {
             return vp_cli_die(2, "info: more than one file given ('%s')", argv[i]);
         }
     }
-    if (!file) return vp_cli_die(2, "info: no file given (see vdbpack info --help)");
+    if (!file || !*file) return vp_cli_die(2, "info: no file given (see vdbpack info --help)");
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
     char *text = NULL;

@@ -365,7 +365,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
         }
 #undef VALUE
     }
-    if (!o->container) return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
+    if (!o->container || !*o->container)
+        return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
     int rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
     if (rc) return rc;
@@ -602,14 +603,14 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
 
 static void print_summary(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
                           const run_result *rr, double fraction, double seconds) {
+    char what[96];
+    vp_cli_shape_count(what, sizeof what, p->count, o->shape);
     if (!strcmp(o->method, "lattice"))
-        printf("vdbpack: packed %zu %s%s (radius %.6g) on %s in %s\n", p->count,
-               vp_shape_name(o->shape), p->count == 1 ? "" : "s", rr->lat.radius, lattice_label(o),
-               o->container);
+        printf("vdbpack: packed %s (radius %.6g) on %s in %s\n", what, rr->lat.radius,
+               lattice_label(o), o->container);
     else
-        printf("vdbpack: packed %zu %s%s%s%s by %s in %s\n", p->count,
-               o->mesh ? vp_mesh_shape_name(o->mesh) : vp_shape_name(o->shape),
-               o->mesh ? " shape" : "", p->count == 1 ? "" : "s",
+        printf("vdbpack: packed %s%s%s%s%s by %s in %s\n", what, o->mesh ? " (" : "",
+               o->mesh ? vp_mesh_shape_name(o->mesh) : "", o->mesh ? ")" : "",
                o->shape == VP_SHAPE_SPHERE ? ""
                : o->overlap == VP_OVERLAP_BBOX ? " (fixed orientation, bounding-box overlap)"
                : o->orient == VP_ORIENT_FIXED  ? " (fixed orientation, exact overlap)"

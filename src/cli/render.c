@@ -203,7 +203,7 @@ int vp_cli_render(int argc, char **argv) {
         }
 #undef NEED
     }
-    if (!file) return vp_cli_die(2, "render: no file given (see vdbpack render --help)");
+    if (!file || !*file) return vp_cli_die(2, "render: no file given (see vdbpack render --help)");
     if (!out) return vp_cli_die(2, "render: no output given: use -o IMAGE.exr or IMAGE.png");
     if (view_set && camera_set) return vp_cli_die(2, "render: give either --view or --camera");
     int rc = vp_cli_preview_path_check("render: -o", out);

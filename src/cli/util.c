@@ -46,6 +46,24 @@ int vp_cli_once(vp_cli_seen *s, const char *cmd, const char *opt, const char *va
     return 0;
 }
 
+const char *vp_cli_shape_plural(int shape) {
+    switch (shape) {
+    case VP_SHAPE_SPHERE: return "spheres";
+    case VP_SHAPE_TETRAHEDRON: return "tetrahedra";
+    case VP_SHAPE_CUBE: return "cubes";
+    case VP_SHAPE_OCTAHEDRON: return "octahedra";
+    case VP_SHAPE_DODECAHEDRON: return "dodecahedra";
+    case VP_SHAPE_ICOSAHEDRON: return "icosahedra";
+    case VP_SHAPE_MESH: return "mesh shapes";
+    default: return "particles";
+    }
+}
+
+int vp_cli_shape_count(char *buf, size_t len, size_t count, int shape) {
+    const char *one = shape == VP_SHAPE_MESH ? "mesh shape" : vp_shape_name((vp_shape)shape);
+    return snprintf(buf, len, "%zu %s", count, count == 1 ? one : vp_cli_shape_plural(shape));
+}
+
 int vp_cli_same_file(const char *a, const char *b) {
     if (!a || !b) return 0;
     if (!strcmp(a, b)) return 1;
@@ -156,8 +174,8 @@ int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file
                              "--shape FILE", cmd, file, recorded[0] ? " (" : "", recorded,
                           recorded[0] ? ")" : "");
     if (shape_file && p->shape != VP_SHAPE_MESH)
-        return vp_cli_die(2, "%s: --shape is for packings of a mesh shape; %s holds %ss", cmd,
-                          file, vp_shape_name(p->shape));
+        return vp_cli_die(2, "%s: --shape is for packings of a mesh shape; %s holds %s", cmd,
+                          file, vp_cli_shape_plural(p->shape));
     if (!shape_file) return 0;
     if (vp_mesh_shape_load(ctx, shape_file, mesh) != VP_OK)
         return vp_cli_die(1, "%s", vp_context_message(ctx));

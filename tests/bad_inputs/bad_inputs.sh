@@ -518,6 +518,9 @@ expect_error "pack: --radius twice" "--radius is given twice \('0\.1' and '0\.2'
 expect_error "pack: --seed twice" "--seed is given twice" "" -- pack sphere:1 --method rsa --radius 0.1 --count 5 --seed 1 --seed 2 -o out.vdb
 expect_error "check: --container twice" "check: --container is given twice" "" -- check ../points.vdb --container sphere:1 --container sphere:2
 expect_error "render: --color then --colour" "render: --colour is given twice \('id' and 'pass'\)" "" -- render ../points.vdb -o out.exr --color id --colour pass
+expect_error "check: --voxel-size with an analytic container" "check: --voxel-size and --grid need a mesh or \.vdb container" "" -- check ../points.vdb --container sphere:1 --voxel-size 0.01
+expect_error "pack: empty container name" "pack: no container given" "" -- pack '' --radius 0.1 -o out.vdb
+expect_error "convert: output is the input" "convert: the output is the input \('\.\./points\.vdb'\)" "" -- convert ../points.vdb ../points.vdb
 expect_error "convert: --format twice" "convert: --format is given twice" "" -- convert ../points.vdb out.ply --format ply --format csv
 
 # a failed pack must not clobber an existing output file
