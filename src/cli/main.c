@@ -57,7 +57,7 @@ static const char *PACK_HELP =
     "  --offsets N             lattice offsets to try (default 128, 32 with --rotate,\n"
     "                          fewer for large packings); 1 = no search\n"
     "  --rotate                also search orientations of the lattice\n"
-    "  --rotations N           orientations to try with --rotate (default 24)\n"
+    "  --rotations N           orientations to try (implies --rotate; default 24)\n"
     "\n"
     "Random sequential addition (--method rsa):\n"
     "  --pass SPEC             one pass; repeat for binary, ternary, ... packings.\n"
