@@ -248,6 +248,14 @@ nv=$(grep -c '^v ' tori.obj); nf=$(grep -c '^f ' tori.obj)
   die "tori.obj: $nv vertices, $nf faces for 5 tori"
 set +e; "$VDBPACK" render tori.vdb -o tori.png >/dev/null 2>rend.err; st=$?; set -e
 [ "$st" = 2 ] && [ "$(wc -l <rend.err)" = 1 ] && [ ! -e tori.png ] || die "render of mesh shapes without --shape: exit $st: $(cat rend.err)"
+# another mesh than the one recorded (shape_file): a warning, not silence
+set +e; "$VDBPACK" check tori.vdb --container box:1,1,1 --shape "$VP_SRC/vdb_samples/peanut.obj" -q \
+  >/dev/null 2>wrong.err; set -e
+grep -q "^vdbpack: warning: tori.vdb was packed with the mesh shape 'torus.obj', not 'peanut.obj'$" wrong.err ||
+  die "check with another mesh: no warning: $(cat wrong.err)"
+"$VDBPACK" check tori.vdb --container box:1,1,1 --shape "$shp" -q 2>right.err || die "check tori: $(cat right.err)"
+[ ! -s right.err ] || die "a warning with the recorded mesh: $(cat right.err)"
+echo "  ok: $(cat wrong.err | head -1)"
 # rendered: one torus seen from the front through its hole, the hole shows
 # the background (a sphere of the same bounding radius would cover it)
 "$VDBPACK" pack box:1,1,1 --method rsa --shape "$shp" --orient fixed --radius 0.4 --count 1 -o one.vdb -q &&

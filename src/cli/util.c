@@ -180,5 +180,12 @@ int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file
     if (vp_mesh_shape_load(ctx, shape_file, mesh) != VP_OK)
         return vp_cli_die(1, "%s", vp_context_message(ctx));
     p->mesh = *mesh;
+    /* the file records the mesh's name only: another name is likely the
+     * wrong mesh (check then reports its overlaps, render draws it) */
+    const char *base = strrchr(shape_file, '/');
+    base = base ? base + 1 : shape_file;
+    if (recorded[0] && strcmp(base, recorded) != 0)
+        fprintf(stderr, "vdbpack: warning: %s was packed with the mesh shape '%s', not '%s'\n",
+                file, recorded, base);
     return 0;
 }
