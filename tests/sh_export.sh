@@ -156,6 +156,11 @@ wait "$reader"
 [ -p fifo.csv ] || die "the FIFO was replaced"
 cmp -s from_fifo.csv direct.csv || die "the FIFO's reader did not get the output"
 echo "  ok: FIFO written through ($(wc -c <from_fifo.csv) bytes read from it)"
+# /dev/stdout is a link into /proc to a pipe here: written through too
+"$VDBPACK" pack sphere:1 --radius 0.1 -q -o /dev/stdout --format csv | cat >from_stdout.csv
+cmp -s from_stdout.csv direct.csv || die "-o /dev/stdout: not the output"
+[ -L /dev/stdout ] || die "/dev/stdout is no longer a link"
+echo "  ok: -o /dev/stdout piped ($(wc -l <from_stdout.csv) lines)"
 if mknod -m 666 null c 1 3 2>/dev/null && mknod -m 666 full c 1 7 2>/dev/null; then
   "$VDBPACK" pack sphere:1 --radius 0.1 -q -o null --format csv || die "-o null (a device)"
   [ -c null ] || die "the device null was replaced by a file"

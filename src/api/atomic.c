@@ -86,14 +86,18 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output: it is a directory", path);
-    /* a link is followed: renaming onto it would replace the link itself */
     char target[4096];
-    if (follow_links(path, target, sizeof a->final_path - 32) != 0)
+    /* a device or FIFO (the kernel follows any links: /dev/stdout names a
+     * pipe through /proc) is written through: -o /dev/null must not
+     * replace the system's /dev/null with a file */
+    a->through = stat(path, &st) == 0 && !S_ISREG(st.st_mode);
+    if (a->through) {
+        memcpy(target, path, n + 1);
+    } else if (follow_links(path, target, sizeof a->final_path - 32) != 0) {
+        /* a link is followed: renaming onto it would replace the link */
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(ELOOP));
+    }
     n = strlen(target);
-    /* a device or FIFO is written through (-o /dev/null must not replace
-     * the system's /dev/null with a file) */
-    a->through = stat(target, &st) == 0 && !S_ISREG(st.st_mode);
     memcpy(a->final_path, target, n + 1);
     path = a->final_path;
     const char *slash = strrchr(path, '/');
