@@ -25,6 +25,53 @@ static int vp_test_failures __attribute__((unused)) = 0;
     __FILE__, __LINE__, #a, #b, va_, vb_); exit(1); } } while (0)
 #define ASSERT_GE(a, b) ASSERT_LE(b, a)
 
+/* Runs fn in a child process bounded by `seconds` (SIGALRM) and, outside
+ * sanitizer builds (whose shadow memory needs terabytes of address space),
+ * by `bytes` of address space, and fails the test unless the child exits
+ * with 0: a runaway (a 24 GB allocation, an endless loop) then fails the
+ * test instead of taking the machine down with it. */
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define VP_TEST_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define VP_TEST_SANITIZED 1
+#endif
+#endif
+#ifndef VP_TEST_SANITIZED
+#define VP_TEST_SANITIZED 0
+#endif
+#if defined(__unix__) && !defined(__cplusplus)
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long long bytes)
+    __attribute__((unused));
+static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long long bytes) {
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid < 0) { perror("fork"); exit(1); }
+    if (pid == 0) {
+        if (!VP_TEST_SANITIZED) {
+            struct rlimit rl = {(rlim_t)bytes, (rlim_t)bytes};
+            setrlimit(RLIMIT_AS, &rl);
+        }
+        alarm(seconds);
+        fn();
+        fflush(stderr);
+        _exit(0);
+    }
+    int st = 0;
+    while (waitpid(pid, &st, 0) < 0) {}
+    if (WIFSIGNALED(st)) {
+        fprintf(stderr, "   bounded run killed by signal %d (%s)\n", WTERMSIG(st),
+                WTERMSIG(st) == SIGALRM ? "over its time limit" : "a crash or the memory limit");
+        exit(1);
+    }
+    if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) exit(1);
+}
+#endif
+
 #define RUN_TEST(fn) do { fprintf(stderr, "-- %s\n", #fn); fn(); } while (0)
 #define RUN_TEST_ARGS(call) do { fprintf(stderr, "-- %s\n", #call); call; } while (0)
 #endif

@@ -143,6 +143,13 @@ typedef struct rsa {
     double side[32];      /* cell side at each level: side[0] 2^-level (levels
                              stay below 31: coordinates fit in 31 bits) */
     double origin[3];     /* cell lattice origin */
+    double extent[3];     /* size of the box the cells tile (hi - lo) */
+    unsigned thin;        /* bit k: the box is thinner along axis k than a
+                             level-0 cell (a slab or a needle). While a level's
+                             side exceeds that extent, its cells are one cell
+                             thick along k and darts are drawn in the cell cut
+                             to the box there, so that every cell has the same
+                             sampled volume (docs/rsa.md, "Thin containers") */
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
     int split_blocked;    /* a split would exceed the budget: plain darts */
@@ -632,6 +639,23 @@ static int covered(const rsa *s, const cell *c, int level) {
     return vp_sgrid_query(&s->g, m, s->rmin + 0.5 * a * sqrt(3.0), cover_visit, &q);
 }
 
+/* The children o of parent p (bits o) that do not lie wholly beyond the
+ * box along a thin axis: those that do hold no point of the box, where
+ * every admissible centre lies. As a mask of the children, so that the
+ * split's loop over them pays nothing for it. */
+static unsigned thin_children(const rsa *s, const cell *p, int child_level) {
+    static const unsigned upper[3] = {0xAA, 0xCC, 0xF0}; /* bit k of o set */
+    double a = cell_side(s, child_level);
+    uint32_t v[3] = {p->x, p->y, p->z & ~VALID_BIT};
+    unsigned keep = 0xFF;
+    for (int k = 0; k < 3; k++) {
+        if (!(s->thin >> k & 1)) continue;
+        if ((double)(2 * v[k] + 1) * a >= s->extent[k]) keep &= ~upper[k];
+        if ((double)(2 * v[k]) * a >= s->extent[k]) keep = 0;
+    }
+    return keep;
+}
+
 static int keep_cell(const rsa *s, cell *c, int level) {
     int k = classify(s, c, level);
     if (!k || covered(s, c, level)) return 0;
@@ -844,6 +868,7 @@ static void split_chunk(void *user, size_t i) {
      * cells, whose unions seldom cover a sub-cell that no single one does:
      * the look-ahead cost more than it saved (docs/rsa.md) */
     int depth = s->solid ? 0 : LOOKAHEAD;
+    unsigned thin = s->thin;
     if (j->child_level + depth > s->max_level) depth = s->max_level - j->child_level;
     if (depth < 0) depth = 0;
     ball_list *b = malloc(sizeof *b);
@@ -864,6 +889,7 @@ static void split_chunk(void *user, size_t i) {
             break;
         }
         cell p = cell_load(j->parents, j->psize, k);
+        if (thin) p.mask &= thin_children(s, &p, j->child_level);
         int pvalid = (p.z & VALID_BIT) != 0;
         uint32_t pz = p.z & ~VALID_BIT;
         double pm[3];
@@ -1077,6 +1103,16 @@ static void make_darts(void *user, size_t ci) {
     size_t lo = ci * j->chunk, hi = lo + j->chunk;
     if (hi > s->ndarts) hi = s->ndarts;
     double a = cell_side(s, s->level);
+    /* thin axes: a cell wider than the box there is drawn in its part
+     * inside the box (the same part for every cell: they are all one
+     * cell thick there) */
+    double cut[3] = {1.0, 1.0, 1.0};
+    int thin = 0;
+    for (int m = 0; m < 3; m++)
+        if ((s->thin >> m & 1) && a > s->extent[m]) {
+            cut[m] = s->extent[m] / a;
+            thin = 1;
+        }
     for (size_t k = lo; k < hi; k++) {
         dart *t = &s->darts[k];
         t->st = vp_rng_stream(s->stream_seed, s->dart_base + k);
@@ -1088,6 +1124,8 @@ static void make_darts(void *user, size_t ci) {
         const cell c = cell_load(s->cells, s->csize, t->cell);
         double u[3];
         for (int m = 0; m < 3; m++) u[m] = vp_rng_uniform(&t->st);
+        if (thin)
+            for (int m = 0; m < 3; m++) u[m] *= cut[m];
         t->p[0] = s->origin[0] + ((double)c.x + u[0]) * a;
         t->p[1] = s->origin[1] + ((double)c.y + u[1]) * a;
         t->p[2] = s->origin[2] + ((double)(c.z & ~VALID_BIT) + u[2]) * a;
@@ -1256,14 +1294,26 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     double max_cells = 2.0 * expect;
     if (max_cells < 4096) max_cells = 4096;
     if (max_cells > 1 << 26) max_cells = 1 << 26;
-    while (vol / (a0 * a0 * a0) > max_cells) a0 *= 2.0;
+    /* the cells' count is vol over the part of a cell inside the box: a
+     * cell is one cell thick along an axis thinner than its side (a slab
+     * 1e-20 thick counted as vol / a0^3 made a grid of 1e16 cells); with
+     * no such axis this is vol / a0^3, as before */
+    for (;;) {
+        double part = 1.0;
+        for (int k = 0; k < 3; k++) part *= hi[k] - lo[k] < a0 ? hi[k] - lo[k] : a0;
+        if (!(vol / part > max_cells)) break;
+        a0 *= 2.0;
+    }
     s->cell_budget = s->max_cells_param ? s->max_cells_param : (size_t)(16.0 * max_cells);
     s->split_blocked = 0;
     for (int l = 0; l < 32; l++) s->side[l] = ldexp(a0, -l);
     int64_t dims[3];
     int64_t maxdim = 1;
+    s->thin = 0;
     for (int k = 0; k < 3; k++) {
         s->origin[k] = lo[k];
+        s->extent[k] = hi[k] - lo[k];
+        if (s->extent[k] < a0) s->thin |= 1u << k;
         dims[k] = (int64_t)ceil((hi[k] - lo[k]) / a0);
         if (dims[k] < 1) dims[k] = 1;
         if (dims[k] > maxdim) maxdim = dims[k];
