@@ -1,6 +1,7 @@
 /* Lattice packer on exact analytic containers: counts where they are known,
- * no particle outside, no overlaps, count mode, thread independence and
- * refusals of impossible requests. */
+ * no particle outside, no overlaps, count mode, thread independence,
+ * refusals of impossible requests, and thin boxes (one layer packed; a
+ * count or a radius out of reach refused at once). */
 #include "vp_test.h"
 
 #include <string.h>
@@ -305,6 +306,64 @@ static void test_refusals(void) {
     vp_container_destroy(c);
 }
 
+/* Boxes far thinner than they are wide. Count mode stepped its radius
+ * down until one layer fit, where every lattice point is near a wall and
+ * kept for the search: box 1e-4 x 1 x 1 --count 10 grew to 2.2 GB and
+ * ran out of memory after 11 s (with --max-memory 500M), 1e-7 ran on.
+ * Now refused with one message, in a child bounded to 20 s and 1.5 GB. */
+static vp_result thin_pack(double t, double r, size_t count, vp_particles **out) {
+    double lo[3] = {-0.5 * t, -0.5, -0.5}, hi[3] = {0.5 * t, 0.5, 0.5};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    vp_lattice_params p;
+    vp_lattice_params_init(&p);
+    p.radius = r;
+    p.count = count;
+    *out = NULL;
+    vp_result res = vp_pack_lattice(ctx, c, &p, out, NULL);
+    fprintf(stderr, "   box %g x 1 x 1, radius %g, count %zu: %s\n", t, r, count,
+            res == VP_OK ? "packed" : vp_context_message(ctx));
+    vp_container_destroy(c);
+    return res;
+}
+
+static void thin_refusals(void) {
+    const double ts[] = {1e-4, 1e-7, 1e-20};
+    vp_particles *out = NULL;
+    for (int i = 0; i < 3; i++) {
+        ASSERT_EQ_INT(thin_pack(ts[i], 0, 10, &out), VP_ERR_NO_FIT);
+        ASSERT_TRUE(out == NULL);
+        ASSERT_TRUE(strstr(vp_context_message(ctx), "--count 10 is out of reach") != NULL);
+    }
+    vp_context_set_max_memory(ctx, 500ull << 20);
+    ASSERT_EQ_INT(thin_pack(1e-4, 0, 10, &out), VP_ERR_NO_FIT);
+    /* a radius: 2.8e8 particles by volume (22 GB), under a 24 GB limit,
+     * but 3.8e8 points near the walls for the search (28 GB) */
+    vp_context_set_max_memory(ctx, 24ull << 30);
+    ASSERT_EQ_INT(thin_pack(1e-4, 4e-5, 0, &out), VP_ERR_OUT_OF_MEMORY);
+    ASSERT_TRUE(out == NULL);
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "near the container's walls") != NULL);
+    vp_context_set_max_memory(ctx, 0);
+}
+
+static void test_thin_boxes(void) {
+    vp_test_bounded(thin_refusals, 20, 1500ull << 20);
+    /* one layer that fits: simple cubic r = 0.004 in 0.01 x 1 x 1, centres
+     * in |x| <= 0.001, 125 x 125 of them 0.008 apart in y and z */
+    double lo[3] = {-0.005, -0.5, -0.5}, hi[3] = {0.005, 0.5, 0.5};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_SC, VP_FIT_INSIDE, 0.004, 0, NULL);
+    fprintf(stderr, "   simple cubic r 0.004 in 0.01 x 1 x 1: %zu\n", p->count);
+    ASSERT_EQ_INT(p->count, 125 * 125);
+    for (size_t i = 0; i < p->count; i++)
+        for (int k = 0; k < 3; k++)
+            ASSERT_LE(fabs(p->positions[3 * i + k]) + 0.004, hi[k] * (1 + 1e-9));
+    ASSERT_GE(min_pair_distance(p), 0.008 * (1 - 1e-9));
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
 int main(void) {
     ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
     RUN_TEST(test_sc_in_box_finds_aligned_placement);
@@ -317,6 +376,7 @@ int main(void) {
     RUN_TEST(test_same_output_for_any_thread_count);
     RUN_TEST(test_refusals);
     RUN_TEST(test_search_with_a_shallow_band);
+    RUN_TEST(test_thin_boxes);
     vp_context_destroy(ctx);
     return 0;
 }

@@ -697,6 +697,41 @@ static double estimate_count(const vp_container *c, const vp_lattice_basis *lb, 
     return c->info.volume * lb->fraction / (unit_vol * r * r * r);
 }
 
+/* Lattice points the placement search keeps as ambiguous at radius r (an
+ * estimate, for the guards below): those within the largest offset m of
+ * the faces of the box of admissible centres, that box grown by m less
+ * that box shrunk by m. A container thinner than about 2m has no point
+ * that fits for every offset, so every point is kept, which the count
+ * from the volume misses: box:1e-4,1,1 at radius 4e-5 has 2.8e8
+ * particles by volume, 3.9e8 points to classify. m scales with r: *m_unit
+ * keeps m / r from the first call (0 before it). */
+static double ambiguous_count(const vp_container *c, const vp_lattice_basis *lb,
+                              const vp_polyhedron *poly, vp_fit fit, double r, double *m_unit) {
+    setup s;
+    setup_build(&s, c, lb, poly, fit, r, (const double[4]){0, 0, 0, 1});
+    if (!(*m_unit > 0.0)) *m_unit = covering_bound(&s) / r;
+    double m = *m_unit * r, outer = 1.0, inner = 1.0;
+    for (int i = 0; i < 3; i++) {
+        double w = s.hi[i] - s.lo[i];
+        outer *= w + 2.0 * m > 0.0 ? w + 2.0 * m : 0.0;
+        inner *= w - 2.0 * m > 0.0 ? w - 2.0 * m : 0.0;
+    }
+    double cell = fabs(vp_det3(s.b[0], s.b[1], s.b[2]));
+    return cell > 0.0 ? (outer - inner) * s.nsites / cell : HUGE_VAL;
+}
+
+/* Bytes per ambiguous point while it is classified: 24 in its slab's list
+ * (which may hold twice that as it grows) and 24 in the joined list. */
+#define VP_AMB_BYTES 72.0
+/* Count mode does not step to a radius with more ambiguous points than
+ * this plus 100 per particle asked (2e6: about 0.1 s of classification):
+ * ordinary containers have a few per cent of their particles near the
+ * wall; a thin one has all its points there, and the count jumps from
+ * none (one layer does not fit) to 1e8 or more (box:1e-4,1,1 --count 10
+ * stepped its radius down into that layer, 2.2 GB and 11 s to run out
+ * of memory; box:1e-7,1,1 ran on). */
+#define VP_COUNT_AMB_WORK 2e6
+
 /* Count mode's radius step: count ~ r^-3, so r (count / target)^(1/3),
  * kept within the interior band for --fit inside. */
 static double radius_step(const vp_container *c, vp_fit fit, double r, size_t count,
@@ -764,6 +799,25 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                        "about %.3g particles of radius %g need an estimated %s, more than the "
                        "limit of %s (--max-memory)", est, r, a, b);
     }
+    double m_unit = 0.0;
+    double amb = ambiguous_count(c, &lb, poly, params->fit, r, &m_unit);
+    if (count_mode && (amb > VP_COUNT_AMB_WORK + 100.0 * (double)params->count ||
+                       amb * VP_AMB_BYTES > (double)limit))
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "lattice: --count %zu is out of reach in this container (smallest extent "
+                       "%g): at radius %g about %.3g lattice points lie near its walls, too many "
+                       "to search for %zu; give --radius, or use --method rsa",
+                       params->count, extent, r, amb, params->count);
+    if (amb * VP_AMB_BYTES > (double)limit) {
+        char a[32], b[32];
+        vp_format_bytes(amb * VP_AMB_BYTES, a, sizeof a);
+        vp_format_bytes((double)limit, b, sizeof b);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "lattice: at radius %g about %.3g lattice points lie near the container's "
+                       "walls (all of them when it is only a few radii thick), and the placement "
+                       "search would need an estimated %s for them, more than the limit of %s "
+                       "(--max-memory)", r, amb, a, b);
+    }
 
     search_cfg cfg;
     memset(&cfg, 0, sizeof cfg);
@@ -815,6 +869,8 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     vp_result res = search(count_mode ? &quick : &cfg, r, &best, &st);
     if (res != VP_OK) goto fail;
     rep.radius_iterations = 1;
+    /* count mode: the radius the guard stopped at, the smallest searched */
+    double wall_r = 0.0, wall_amb = 0.0, min_r = r;
     if (count_mode) {
         /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest.
          * First with the quick evaluation, then (the search adds particles,
@@ -832,6 +888,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
             const search_cfg *sc = phase ? &cfg : &quick;
             if (phase) {
                 if (cfg.offsets <= 1 && cfg.rotations <= 1) break;
+                if (best.count == 0 && wall_r > 0.0) break; /* refused below */
                 res = search(&cfg, r, &best, &st);
                 if (res != VP_OK) goto fail;
             }
@@ -870,9 +927,16 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 if (nr == r) break;
                 r = nr;
                 if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
+                double na = ambiguous_count(c, &lb, poly, params->fit, r, &m_unit);
+                if (na > VP_COUNT_AMB_WORK + 100.0 * target || na * VP_AMB_BYTES > (double)limit) {
+                    wall_r = r;
+                    wall_amb = na;
+                    break;
+                }
                 res = search(sc, r, &best, &st);
                 if (res != VP_OK) goto fail;
                 rep.radius_iterations++;
+                if (r < min_r) min_r = r;
                 if (best.count >= target && r > lo_r) lo_r = r;
                 if (best.count < target && r < hi_r) hi_r = r;
                 /* no particle at all is never the answer */
@@ -896,6 +960,15 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 best = kept_p;
             }
         }
+    }
+    if (count_mode && best.count == 0 && wall_r > 0.0) {
+        vp_depth_map_free(&dm);
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "lattice: --count %zu is out of reach in this container (smallest extent "
+                       "%g): no particle fits at radius %g or larger, and at radius %g about "
+                       "%.3g lattice points lie near its walls, too many to search for %zu; give "
+                       "--radius, or use --method rsa",
+                       params->count, extent, min_r, wall_r, wall_amb, params->count);
     }
     setup s;
     setup_build(&s, c, &lb, poly, params->fit, r, best.q);

@@ -19,6 +19,9 @@ cd "$W"
 mkdir run
 NFAIL=0
 NCASES=0
+# 1 when mesh and .vdb input are read in a child process: not a sanitizer build
+IN_CHILD=0
+if "$VDBPACK" --version | grep -q "child process"; then IN_CHILD=1; fi
 fail() { echo "FAIL: $*"; NFAIL=$((NFAIL + 1)); }
 
 # expect_error NAME REGEX MAX_SECONDS|"" -- vdbpack args...
@@ -32,19 +35,25 @@ expect_error() {
     local t0 t1 rc=0
     t0=$(date +%s.%N)
     # test-only pseudo-options: --ulimit-f KIB (file-size limit for the run),
+    # --ulimit-v KIB (address-space limit, so that a runaway fails the case
+    # instead of exhausting the machine; not in sanitizer builds, whose
+    # shadow memory needs terabytes of it), --timeout S (killed after S s),
     # --env-threads-zero (VDBPACK_THREADS=0 in the environment), --env
     # NAME=VALUE (any variable)
-    local args=() fsize=unlimited envt="" envs=()
+    local args=() fsize=unlimited vsize=unlimited tmo=0 envt="" envs=()
     while [ $# -gt 0 ]; do
         case $1 in
         --ulimit-f) fsize=$2; shift 2 ;;
+        --ulimit-v) if [ "$IN_CHILD" = 1 ]; then vsize=$2; fi; shift 2 ;;
+        --timeout) tmo=$2; shift 2 ;;
         --env-threads-zero) envt=0; shift ;;
         --env) envs+=("$2"); shift 2 ;;
         *) args+=("$1"); shift ;;
         esac
     done
-    (cd run && ulimit -f "$fsize" && if [ -n "$envt" ]; then export VDBPACK_THREADS=$envt; fi &&
-        exec env "${envs[@]}" "$VDBPACK" "${args[@]}" >../out.txt 2>../err.txt) || rc=$?
+    (cd run && ulimit -f "$fsize" && ulimit -v "$vsize" &&
+        if [ -n "$envt" ]; then export VDBPACK_THREADS=$envt; fi &&
+        exec timeout "$tmo" env "${envs[@]}" "$VDBPACK" "${args[@]}" >../out.txt 2>../err.txt) || rc=$?
     t1=$(date +%s.%N)
     local lines
     lines=$(wc -l <err.txt)
@@ -313,6 +322,12 @@ file.obj" --radius 0.1 -o out.vdb
 expect_error "rsa radius larger than the box" "radius" "" -- pack box:1,1,1 --method rsa --radius 2 --count 10 -o out.vdb
 expect_error "lattice of 10^9 particles" "memory" 1 -- pack sphere:1 --count 1000000000 -o out.vdb
 expect_error "lattice of 10^9 particles in a mesh" "memory" 2 -- pack ../cube.obj --count 1000000000 -o out.vdb
+# thin boxes (the count mode stepped its radius down into one layer of 10^8
+# and more points, every one near a wall: 2.2 GB then out of memory, or
+# endless; a radius whose search needed 28 GB passed the guard of 22 GB)
+expect_error "lattice --count in a box 1e-7 thick" "count 10 is out of reach" 5 -- pack box:1e-7,1,1 --count 10 -o out.vdb --ulimit-v 3000000 --timeout 60
+expect_error "lattice --count in a box 1e-4 thick, --max-memory" "count 10 is out of reach" 5 -- pack box:1e-4,1,1 --count 10 --max-memory 500M -o out.vdb --ulimit-v 3000000 --timeout 60
+expect_error "lattice --radius in a thin box: its search over --max-memory" "near the container's walls.*max-memory" 5 -- pack box:1e-4,1,1 --radius 4e-5 --max-memory 24G -o out.vdb --ulimit-v 3000000 --timeout 60
 expect_error "rsa count 10^10" "memory" 1 -- pack box:1,1,1 --method rsa --radius 0.0001 --count 10000000000 -o out.vdb
 expect_error "relax count 10^9" "memory" 1 -- pack box:1,1,1 --method relax --radius 0.0001 --count 1000000000 -o out.vdb
 
