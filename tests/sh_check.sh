@@ -3,7 +3,8 @@
 # solid, 16-bit fixed-point and float P, analytic and mesh containers), and
 # violations made by OpenVDB's own vdb_ax (not vdbpack) are caught: pscale
 # scaled up (overlaps), one point moved out of the container (outside),
-# with exit status 3, one line on stderr under -q, and the JSON figures.
+# positions stored too coarsely for their radii (imprecise), with exit
+# status 3, one line on stderr under -q, and the JSON figures.
 set -euo pipefail
 : "${VDBPACK:?}" "${VP_SRC:?}"
 command -v vdb_ax >/dev/null || { echo "SKIP: vdb_ax not installed"; exit 77; }
@@ -86,6 +87,48 @@ set +e; "$VDBPACK" check fcc_fat.vdb --container box:1,1,1 >fat.txt 2>&1; st=$?;
 "$VDBPACK" check fcc_fat.vdb --container box:1,1,1 --overlap-tolerance 0.02 -q ||
   die "--overlap-tolerance 0.02 should accept a 1% overlap"
 echo "  ok: tolerance respected both ways"
+
+echo "=== tiny packings: positions stored precisely enough, or a violation"
+# (audit) 16-bit fixed point in OpenVDB's smallest voxel (1.44e-5) rounds
+# positions by up to 3.8e-10: 2 % of a radius of 2e-8, and check passed such
+# a file (max_overlap 0.004) by widening its tolerances by that error. pack
+# must write float P there, and check must flag a file that has the error.
+"$VDBPACK" pack sphere:1e-7 --radius 2e-8 -o tiny.vdb >tiny_pack.txt 2>tiny_pack.err ||
+  die "tiny pack: $(cat tiny_pack.err)"
+grep -q "P stored as 32-bit float" tiny_pack.txt || die "tiny pack: no precision line: $(cat tiny_pack.txt)"
+"$VDBPACK" check tiny.vdb --container sphere:1e-7 --json >tiny.json 2>tiny.err ||
+  die "tiny: check exited $?: $(cat tiny.err) $(cat tiny.json)"
+"$PY" -c "
+import json; d = json.load(open('tiny.json'))
+assert d['count'] == 55, d['count']
+assert d['position_error'] <= 1e-3 * 2e-8, 'position error %g of radius 2e-8' % d['position_error']
+assert d['max_overlap'] <= 1e-3, 'max_overlap %g' % d['max_overlap']
+assert d['imprecise'] is False and d['ok'] is True, d
+print('  ok: 55 spheres of radius 2e-8: position error %.3g, max_overlap %.3g' % (d['position_error'], d['max_overlap']))" ||
+  die "tiny: $(cat tiny.json)"
+# one sphere of radius 1e-6: its voxel (2 r) was below OpenVDB's smallest
+# scale ("ArithmeticError: Non-zero scale values required")
+printf 'id,x,y,z,pscale,group\n0,1e-7,0,-2e-7,1e-6,pass1\n' >one.csv
+"$VDBPACK" convert one.csv one.vdb -q 2>one.err || die "one small sphere: convert: $(cat one.err)"
+"$VDBPACK" check one.vdb --container sphere:1e-5 -q || die "one small sphere: check failed"
+echo "  ok: one sphere of radius 1e-6 written and checked"
+# the same 55 spheres written as 16-bit fixed point by OpenVDB's own tools
+# (vdb_tool, pscale added by vdb_ax): a violation, exit 3, one line
+if command -v vdb_tool >/dev/null; then
+  "$VDBPACK" pack sphere:1e-7 --radius 2e-8 -o tiny.ply -q
+  vdb_tool -read tiny.ply -points2vdb bits=16 -write tiny16_nopscale.vdb >vt.out 2>&1 || die "vdb_tool: $(cat vt.out)"
+  "${AX[@]}" -i tiny16_nopscale.vdb -s 'f@pscale = 2e-8f;' -o tiny16.vdb >ax.out 2>&1 || die "vdb_ax: $(cat ax.out)"
+  "$VDBPACK" info tiny16.vdb | grep -q 'P: vec3s \[fxpt16\]' || die "tiny16.vdb: P is not fixed16"
+  set +e; "$VDBPACK" check tiny16.vdb --container sphere:1e-7 --json >tiny16.json 2>tiny16.err; st=$?; set -e
+  [ "$st" = 3 ] || die "tiny16: check exited $st, expected 3: $(cat tiny16.err) $(cat tiny16.json)"
+  [ "$(wc -l <tiny16.err)" = 1 ] && grep -q "too coarse" tiny16.err || die "tiny16: stderr: $(cat tiny16.err)"
+  [ "$(jget tiny16.json imprecise)" = True ] || die "tiny16: $(cat tiny16.json)"
+  set +e; "$VDBPACK" check tiny16.vdb --container sphere:1e-7 >tiny16.txt 2>&1; st=$?; set -e
+  [ "$st" = 3 ] && grep -q VIOLATION tiny16.txt || die "tiny16 text report: exit $st: $(cat tiny16.txt)"
+  echo "  ok: fixed16 P at radius 2e-8 (vdb_tool): exit 3: $(cat tiny16.err)"
+else
+  echo "  skipped: fixed16 file from vdb_tool (not installed)"
+fi
 
 echo "=== bad input"
 bad() { # STATUS WORD args...

@@ -701,6 +701,182 @@ static void test_points(void)
     free(p.positions);
 }
 
+/* n^3 spheres of radius r on a simple cubic grid of spacing 2r (each
+ * touching its neighbours), centred on c. */
+static void touching_cubes(vp_particles *p, int n, float r, double c)
+{
+    particles_with_positions(p, (size_t)n * n * n);
+    p->uniform_radius = r;
+    p->shape = VP_SHAPE_SPHERE;
+    size_t k = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            for (int l = 0; l < n; ++l, ++k) {
+                p->positions[3 * k] = c + 2.0 * r * (i - 0.5 * (n - 1));
+                p->positions[3 * k + 1] = c + 2.0 * r * (j - 0.5 * (n - 1));
+                p->positions[3 * k + 2] = c + 2.0 * r * (l - 0.5 * (n - 1));
+            }
+}
+
+/* Writes p, reads it back, and returns the largest distance a position
+ * moved; *pe gets the reader's position_error. */
+static double roundtrip_error(const char *path, const vp_particles *p, const vp_write_params *wp,
+                              double *pe)
+{
+    int rc = vpv_points_write(path, p, wp, err, sizeof err);
+    if (rc) fprintf(stderr, "   write: %s\n", err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    vp_particles *r = NULL;
+    ASSERT_EQ_INT(vpv_points_read(path, &r, err, sizeof err), VP_OK);
+    ASSERT_EQ_INT(r->count, p->count);
+    double worst = 0;
+    for (size_t i = 0; i < p->count; ++i) {
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            double d = r->positions[3 * i + k] - p->positions[3 * i + k];
+            d2 += d * d;
+        }
+        if (sqrt(d2) > worst) worst = sqrt(d2);
+    }
+    *pe = r->position_error;
+    free_particles(r);
+    return worst;
+}
+
+/* Tiny particles: 16-bit fixed point in OpenVDB's smallest voxel
+ * (1.44e-5) rounds positions by up to 3.8e-10, which was 2 % of a 2e-8
+ * radius and put 55 spheres of radius 2e-11 on one point. The writer must
+ * write float P instead, or refuse, and never store positions whose error
+ * exceeds VP_POSITION_ERROR_LIMIT of the smallest radius. */
+static void test_points_tiny_radii(void)
+{
+    char path[300];
+    tmp_path(path, sizeof path, "tiny.vdb");
+    vp_write_report rep;
+    vp_write_params wp;
+    vp_write_params_init(&wp);
+    wp.report = &rep;
+    double pe;
+
+    /* fixed16 asked for, too coarse: float P, said so */
+    vp_particles p;
+    touching_cubes(&p, 4, 2e-8f, 0.0);
+    wp.full_precision = 0;
+    memset(&rep, 0xff, sizeof rep);
+    double moved = roundtrip_error(path, &p, &wp, &pe);
+    fprintf(stderr, "   r 2e-8: moved %g, position error %g, voxel %g\n", moved, pe, rep.voxel_size);
+    ASSERT_LE(moved, VP_POSITION_ERROR_LIMIT * 2e-8);
+    ASSERT_LE(pe, VP_POSITION_ERROR_LIMIT * 2e-8);
+    ASSERT_EQ_INT(rep.full_precision, 1);
+    ASSERT_EQ_INT(rep.promoted, 1);
+    ASSERT_NEAR(rep.position_error, pe, 1e-9 * pe);
+    ASSERT_GE(rep.fixed16_error, VP_POSITION_ERROR_LIMIT * 2e-8);
+    ASSERT_GE(rep.voxel_size, VP_POINTS_MIN_VOXEL);
+    char *json = NULL;
+    ASSERT_EQ_INT(vpv_describe_file(path, 1, &json, err, sizeof err), VP_OK);
+    ASSERT_TRUE(strstr(json, "\"codec\":\"null\"") != NULL);
+    ASSERT_TRUE(strstr(json, "\"position_precision_requested\":\"fixed16\"") != NULL);
+    free(json);
+    free(p.positions);
+
+    /* the same at a normal size: fixed16 stays */
+    touching_cubes(&p, 4, 0.05f, 0.0);
+    moved = roundtrip_error(path, &p, &wp, &pe);
+    ASSERT_EQ_INT(rep.full_precision, 0);
+    ASSERT_EQ_INT(rep.promoted, 0);
+    ASSERT_LE(pe, VP_POSITION_ERROR_LIMIT * 0.05);
+    ASSERT_LE(moved, pe * (1 + 1e-9));
+    free(p.positions);
+
+    /* one small particle: the voxel was 2 r, below OpenVDB's smallest scale
+     * ("ArithmeticError: Non-zero scale values required") */
+    particles_with_positions(&p, 1);
+    p.positions[0] = 1e-7;
+    p.positions[1] = -2e-7;
+    p.positions[2] = 3e-7;
+    p.uniform_radius = 1e-6f;
+    wp.full_precision = 1;
+    moved = roundtrip_error(path, &p, &wp, &pe);
+    ASSERT_LE(moved, VP_POSITION_ERROR_LIMIT * 1e-6);
+    ASSERT_LE(pe, VP_POSITION_ERROR_LIMIT * 1e-6);
+    free(p.positions);
+
+    /* two sizes: 16-bit fixed point in a voxel sized for the large ones is
+     * too coarse for the small ones (0.2 and 2e-5: a quarter of a radius) */
+    particles_with_positions(&p, 200);
+    p.radii = malloc(sizeof(float) * 200);
+    ASSERT_TRUE(p.radii != NULL);
+    p.shape = VP_SHAPE_SPHERE;
+    srand(5);
+    for (int i = 0; i < 200; ++i) {
+        for (int k = 0; k < 3; ++k) p.positions[3 * i + k] = (double)rand() / RAND_MAX - 0.5;
+        p.radii[i] = i < 4 ? 0.2f : 2e-5f;
+    }
+    wp.full_precision = 0;
+    moved = roundtrip_error(path, &p, &wp, &pe);
+    ASSERT_EQ_INT(rep.promoted, 1);
+    ASSERT_LE(pe, VP_POSITION_ERROR_LIMIT * 2e-5);
+    ASSERT_LE(moved, VP_POSITION_ERROR_LIMIT * 2e-5);
+    free(p.radii);
+    free(p.positions);
+
+    /* too small for any .vdb: refused with one line, nothing written, no
+     * OpenVDB exception text */
+    touching_cubes(&p, 3, 2e-11f, 0.0);
+    char bad[300];
+    tmp_path(bad, sizeof bad, "tiny_refused.vdb");
+    int rc = vpv_points_write(bad, &p, &wp, err, sizeof err);
+    fprintf(stderr, "   r 2e-11: %s\n", err);
+    ASSERT_EQ_INT(rc, VP_ERR_INVALID_ARGUMENT);
+    ASSERT_TRUE(strstr(err, "radius 2e-11 is too small for a .vdb") != NULL);
+    ASSERT_TRUE(strstr(err, "Error") == NULL && strchr(err, '\n') == NULL);
+    ASSERT_TRUE(!file_exists(bad));
+    free(p.positions);
+    /* the bound the CLI uses before packing */
+    ASSERT_NEAR(vp_points_min_radius(0.0), vpv_points_error(VP_POINTS_MIN_VOXEL, 1) / 1e-3, 1e-15);
+    ASSERT_TRUE(vp_points_min_radius(0.0) > 2e-11 && vp_points_min_radius(0.0) < 2e-9);
+    ASSERT_TRUE(vp_points_min_radius(1e6) > vp_points_min_radius(0.0));
+}
+
+/* vp_check_particles: a position error above position_tolerance of the
+ * smallest radius is a violation (imprecise), not a pass with the overlap
+ * tolerance widened by it. */
+static void test_check_imprecise(void)
+{
+    vp_context *ctx = NULL;
+    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    vp_container *c = NULL;
+    const double o[3] = {0, 0, 0};
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, o, 1e-6, &c), VP_OK);
+    vp_particles p;
+    touching_cubes(&p, 3, 2e-8f, 0.0);
+    /* overlap the first pair by 0.4 % of r_i + r_j */
+    p.positions[2] += 0.004 * 4e-8;
+    vp_check_params cp;
+    vp_check_params_init(&cp);
+    ASSERT_NEAR(cp.position_tolerance, VP_POSITION_ERROR_LIMIT, 0);
+    vp_check_report rep;
+    /* exact positions: the overlap is found */
+    p.position_error = 0;
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, &p, &cp, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 1);
+    ASSERT_EQ_INT(rep.imprecise, 0);
+    /* a file's 16-bit error in the smallest voxel (3.8e-10): the widened
+     * tolerance hides the overlap, so the set is imprecise */
+    p.position_error = vpv_points_error(VP_POINTS_MIN_VOXEL, 0);
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, &p, &cp, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.imprecise, 1);
+    ASSERT_NEAR(rep.position_error_ratio, p.position_error / 2e-8, 1e-6);
+    /* float P there (1.5e-12): fine, and the overlap is still found */
+    p.position_error = vpv_points_error(VP_POINTS_MIN_VOXEL, 1);
+    ASSERT_EQ_INT(vp_check_particles(ctx, c, &p, &cp, &rep), VP_OK);
+    ASSERT_EQ_INT(rep.imprecise, 0);
+    ASSERT_EQ_INT(rep.overlapping_pairs, 1);
+    free(p.positions);
+    vp_container_destroy(c);
+    vp_context_destroy(ctx);
+}
+
 static int thread_count(void)
 {
     FILE *f = fopen("/proc/self/status", "r");
@@ -838,6 +1014,8 @@ int main(void)
     RUN_TEST(test_read_errors);
     RUN_TEST(test_shared_levelsets);
     RUN_TEST(test_points);
+    RUN_TEST(test_points_tiny_radii);
+    RUN_TEST(test_check_imprecise);
     RUN_TEST(test_probe_after_tbb_work);
     RUN_TEST(test_quiesce_while_tbb_busy);
     char cmd[400];

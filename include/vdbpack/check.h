@@ -18,6 +18,12 @@ typedef struct vp_check_params {
     double wall_tolerance;    /* world distance a particle may cross the wall
                                  by; < 0 = automatic (a tenth of the container's
                                  voxel size, 1e-9 for analytic containers) */
+    double position_tolerance; /* particles read from a file whose
+                                 position_error exceeds this fraction of the
+                                 smallest radius are a violation
+                                 ("imprecise": the file cannot show that they
+                                 do not overlap); default
+                                 VP_POSITION_ERROR_LIMIT (1e-3) */
 } vp_check_params;
 void vp_check_params_init(vp_check_params *p);
 
@@ -33,11 +39,15 @@ typedef struct vp_check_report {
     double fraction;
     double mean_contacts;       /* contacts per particle (pairs * 2 / count) */
     size_t contact_pairs;
+    double position_error_ratio; /* the particles' position_error / the
+                                    smallest radius; 0 for exact positions */
+    int imprecise;              /* 1: position_error_ratio exceeds
+                                   position_tolerance (a violation) */
     double seconds;
 } vp_check_report;
 
 /* Returns VP_OK when the check ran (violations are in the report, not in the
- * result). */
+ * result: overlapping_pairs, outside, imprecise). */
 vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_particles *p,
                              const vp_check_params *params, vp_check_report *report);
 #endif

@@ -298,13 +298,52 @@ typedef struct vp_meta {
     double d;
 } vp_meta;
 
+/* A .vdb stores P as offsets within the points grid's voxels, so a
+ * position is exact to within sqrt(3) x the codec's step x the voxel size
+ * (the position_error vp_read_points reports). The writer never stores
+ * positions whose error exceeds VP_POSITION_ERROR_LIMIT times the smallest
+ * radius: where 16-bit fixed point would, it writes float P instead (and
+ * says so in the report and the file's metadata); where even float P
+ * cannot (OpenVDB's smallest voxel, VP_POINTS_MIN_VOXEL, holds positions
+ * only to about 1.5e-12, so radii below about 1.5e-9), the write fails
+ * with VP_ERR_INVALID_ARGUMENT and writes nothing. vp_check_particles
+ * reports a file above the limit as imprecise (a violation). */
+#define VP_POSITION_ERROR_LIMIT 1e-3
+/* The smallest voxel size OpenVDB's transforms accept (a scale map's
+ * determinant must be at least 3e-15): cbrt(3e-15), rounded up. */
+#define VP_POINTS_MIN_VOXEL 1.4423e-5
+
+/* What vp_write_points wrote (filled on success when
+ * vp_write_params.report is not NULL). */
+typedef struct vp_write_report {
+    int full_precision;      /* 1: float P was written; 0: 16-bit fixed point */
+    int promoted;            /* 1: 16-bit fixed point was asked for but would
+                                have rounded positions by more than
+                                VP_POSITION_ERROR_LIMIT of the smallest
+                                radius, so float P was written */
+    double voxel_size;       /* the points grid's voxel size */
+    double position_error;   /* sqrt(3) x step x voxel: what a reader gets */
+    double fixed16_error;    /* the error 16-bit fixed point would have had */
+    double min_radius;       /* the smallest radius written */
+} vp_write_report;
+
 typedef struct vp_write_params {
-    int full_precision;      /* 1: float P; 0: 16-bit fixed point */
+    int full_precision;      /* 1: float P; 0: 16-bit fixed point (float
+                                instead where that is too coarse, see
+                                VP_POSITION_ERROR_LIMIT) */
     int points_per_voxel;    /* for OpenVDB's voxel-size helper; default 8 */
     const vp_meta *meta;     /* file metadata; may be NULL */
     size_t meta_count;
+    vp_write_report *report; /* may be NULL; owned by the caller, filled on
+                                success */
 } vp_write_params;
 void vp_write_params_init(vp_write_params *p);
+
+/* The smallest radius a .vdb can hold at VP_POSITION_ERROR_LIMIT for
+ * positions up to max_coordinate (world, absolute) from the origin: float
+ * P in the smallest voxel OpenVDB allows (about 1.5e-9 near the origin),
+ * or in the voxel that keeps index coordinates within range far from it. */
+double vp_points_min_radius(double max_coordinate);
 
 /* Writes a PointDataGrid "points" to path (atomically). */
 vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,

@@ -19,6 +19,11 @@ void vp_write_params_init(vp_write_params *p) {
     p->points_per_voxel = 8;
 }
 
+double vp_points_min_radius(double max_coordinate) {
+    double m = isfinite(max_coordinate) ? fabs(max_coordinate) : 0.0;
+    return vpv_points_error(vpv_points_min_voxel(m), 1) / VP_POSITION_ERROR_LIMIT;
+}
+
 vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
                           const vp_write_params *params) {
     if (!p) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no particles to write");

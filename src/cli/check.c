@@ -16,15 +16,17 @@ const char *VP_CHECK_HELP =
     "Verifies the packing in FILE.vdb (its \"points\" grid) against CONTAINER (a\n"
     "mesh, a .vdb level set, sphere:R or box:X,Y,Z) from the file alone: pairs of\n"
     "overlapping particles and the largest overlap, particles outside the\n"
-    "container, the packing fraction and the mean contact number. Exit status: 0\n"
-    "when there is no violation, 3 when there is one, 1 on errors, 2 on usage.\n"
+    "container, the packing fraction and the mean contact number. Positions stored\n"
+    "to within more than 1e-3 of the smallest radius (a .vdb too coarse to show\n"
+    "that particles do not overlap) are a violation too. Exit status: 0 when there\n"
+    "is no violation, 3 when there is one, 1 on errors, 2 on usage.\n"
     "\n"
     "  --container C           the container (required)\n"
     "  --fit inside|center     what counts as outside (default: the file's fit\n"
     "                          metadata, else inside)\n"
     "  --overlap-tolerance X   overlaps up to X of r_i + r_j are not violations\n"
-    "                          (default 1e-6; widened by the position error of\n"
-    "                          16-bit fixed-point P)\n"
+    "                          (default 1e-6; widened by twice the file's\n"
+    "                          position error)\n"
     "  --contact-tolerance X   gaps up to X of r_i + r_j count as contacts\n"
     "                          (default 1e-3)\n"
     "  --wall-tolerance D      world distance a particle may cross the wall by\n"
@@ -190,7 +192,7 @@ int vp_cli_check(int argc, char **argv) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
     }
-    int bad = rep.overlapping_pairs > 0 || rep.outside > 0;
+    int bad = rep.overlapping_pairs > 0 || rep.outside > 0 || rep.imprecise;
     const char *fit = cp.fit == VP_FIT_INSIDE ? "inside" : "center";
     if (json) {
         printf("{\"file\":");
@@ -199,12 +201,14 @@ int vp_cli_check(int argc, char **argv) {
         vp_cli_json_string(stdout, cont);
         printf(",\"fit\":\"%s\",\"shape\":\"%s\",\"count\":%zu,\"overlapping_pairs\":%zu,"
                "\"max_overlap\":%.17g,\"max_overlap_world\":%.17g,\"overlap_tolerance\":%.17g,"
-               "\"position_error\":%.17g,\"outside\":%zu,\"max_outside\":%.17g,"
+               "\"position_error\":%.17g,\"position_error_ratio\":%.17g,\"imprecise\":%s,"
+               "\"outside\":%zu,\"max_outside\":%.17g,"
                "\"particle_volume\":%.17g,\"container_volume\":%.17g,\"packing_fraction\":%.17g,"
                "\"contact_pairs\":%zu,\"mean_contacts\":%.17g,\"contact_tolerance\":%.17g,"
                "\"ok\":%s,\"seconds\":%.6f}\n",
                fit, vp_shape_name(p->shape), rep.count, rep.overlapping_pairs, rep.max_overlap,
-               rep.max_overlap_world, cp.overlap_tolerance, p->position_error, rep.outside,
+               rep.max_overlap_world, cp.overlap_tolerance, p->position_error,
+               rep.position_error_ratio, rep.imprecise ? "true" : "false", rep.outside,
                rep.max_outside, rep.particle_volume, rep.container_volume, rep.fraction,
                rep.contact_pairs, rep.mean_contacts, cp.contact_tolerance, bad ? "false" : "true",
                rep.seconds);
@@ -216,7 +220,11 @@ int vp_cli_check(int argc, char **argv) {
                rep.overlapping_pairs, cp.overlap_tolerance,
                p->shape == VP_SHAPE_SPHERE ? "r_i + r_j" : "the smaller radius", rep.max_overlap,
                rep.max_overlap_world);
-        if (p->position_error > 0)
+        if (rep.imprecise)
+            printf("  positions stored to within %.3g (world), %.3g of the smallest radius: "
+                   "more than %.3g, too coarse to show that particles do not overlap\n",
+                   p->position_error, rep.position_error_ratio, cp.position_tolerance);
+        else if (p->position_error > 0)
             printf("  positions stored to within %.3g (world), allowed for above\n",
                    p->position_error);
         printf("  outside the container: %zu (largest excursion %.3g)\n", rep.outside,
@@ -227,9 +235,17 @@ int vp_cli_check(int argc, char **argv) {
                rep.contact_pairs, cp.contact_tolerance);
         printf("  %s\n", bad ? "VIOLATION" : "OK");
     }
-    if (bad && (quiet || json))
-        fprintf(stderr, "vdbpack: check: %s: %zu overlapping pairs, %zu particles outside\n", file,
-                rep.overlapping_pairs, rep.outside);
+    if (bad && (quiet || json)) {
+        if (rep.imprecise)
+            fprintf(stderr, "vdbpack: check: %s: positions stored to within %.3g, %.3g of the "
+                            "smallest radius (more than %.3g): too coarse to check; %zu "
+                            "overlapping pairs, %zu particles outside\n", file,
+                    p->position_error, rep.position_error_ratio, cp.position_tolerance,
+                    rep.overlapping_pairs, rep.outside);
+        else
+            fprintf(stderr, "vdbpack: check: %s: %zu overlapping pairs, %zu particles outside\n",
+                    file, rep.overlapping_pairs, rep.outside);
+    }
     status = bad ? 3 : 0;
 done:
     free(desc);

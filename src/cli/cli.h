@@ -102,6 +102,10 @@ struct vp_write_params;
 int vp_cli_write_particles(struct vp_context *ctx, const char *path, int format,
                            const struct vp_particles *p, const struct vp_write_params *wp,
                            int quiet);
+/* The summary line for a .vdb whose P was written as float because 16-bit
+ * fixed point would have been too coarse (vp_write_report.promoted). */
+struct vp_write_report;
+void vp_cli_print_promoted(const struct vp_write_report *w);
 /* For a packing p read from file by cmd: with a mesh shape, loads
  * shape_file (required; `recorded` is the name the file's metadata gives,
  * or "") into *mesh (owned by the caller) and points p->mesh at it; refuses

@@ -26,7 +26,8 @@ const char *VP_CONVERT_HELP =
     "                          record it; default sphere, required when it has\n"
     "                          orient columns)\n"
     "  --precision fixed16|full  .vdb output: P as 16-bit fixed point or 32-bit float\n"
-    "                          (default full)\n"
+    "                          (default full; float wherever 16 bits would round by\n"
+    "                          over 1e-3 of the smallest radius)\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
 
@@ -75,6 +76,13 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
                     path, cmax, sqrt(3.0) * half_ulp, 100.0 * sqrt(3.0) * half_ulp / rmin);
     }
     return vp_export(ctx, path, p, &ep) == VP_OK ? 0 : 1;
+}
+
+void vp_cli_print_promoted(const vp_write_report *w) {
+    printf("  P stored as 32-bit float, not 16-bit fixed point: that would round positions by "
+           "up to %.3g, %.3g of the smallest radius (more than %g)\n",
+           w->fixed16_error, w->min_radius > 0 ? w->fixed16_error / w->min_radius : 0.0,
+           VP_POSITION_ERROR_LIMIT);
 }
 
 int vp_cli_convert(int argc, char **argv) {
@@ -186,6 +194,9 @@ int vp_cli_convert(int argc, char **argv) {
     wp.full_precision = full;
     wp.meta = meta;
     wp.meta_count = 4;
+    vp_write_report wrep;
+    memset(&wrep, 0, sizeof wrep);
+    wp.report = &wrep;
     status = vp_cli_finish_output(
         ctx, vp_cli_write_particles(ctx, out, out_fmt, p, &wp, quiet) != 0, out);
     if (status) goto done;
@@ -195,6 +206,7 @@ int vp_cli_convert(int argc, char **argv) {
         printf("vdbpack: converted %s from %s (%s) to %s (%s)\n", what, in,
                vp_format_name(in_fmt), out, vp_format_name((vp_format)out_fmt));
     }
+    if (!quiet && out_fmt == VP_FORMAT_VDB && wrep.promoted) vp_cli_print_promoted(&wrep);
     status = 0;
 done:
     vp_particles_destroy(p);

@@ -1,6 +1,7 @@
 /* `vdbpack pack`: options, container, packer, outputs and the summary. */
 #include "vdbpack/vdbpack.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -134,6 +135,14 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
                             !(o->radius > 0)))
             return vp_cli_die(2, "pack: --radius must be a positive number, not '%s'",
                               o->radius_text);
+        /* as for rsa and relax (vp_size_dist_parse): a radius below a
+         * normal float would be stored as a denormal or 0 */
+        if (have_radius && !(o->radius >= FLT_MIN))
+            return vp_cli_die(2, "pack: --radius: size '%s': a radius must be at least 1.2e-38 "
+                                 "(radii are stored as float)", o->radius_text);
+        if (have_radius && !(o->radius <= FLT_MAX))
+            return vp_cli_die(2, "pack: --radius: size '%s': a radius must be at most 3.4e38 "
+                                 "(radii are stored as float)", o->radius_text);
         if (o->shape == VP_SHAPE_SPHERE && o->lattice == VP_LATTICE_DENSEST)
             o->lattice = VP_LATTICE_FCC;
         if (o->shape != VP_SHAPE_SPHERE && o->lattice != VP_LATTICE_DEFAULT &&
@@ -464,6 +473,48 @@ static double largest_radius(const pack_opts *o) {
     return o->target_fraction > 0 ? 0.0 : vp_size_dist_max(&o->sizes);
 }
 
+/* Lattice --count: the radius the packer starts from (the infinite
+ * lattice's, which fills the container's volume with count particles); the
+ * radius it ends with is about this or smaller. */
+static double lattice_count_radius(const pack_opts *o, const vp_container_info *ci) {
+    static const double frac[VP_SHAPE_COUNT] = {0.74048, 18.0 / 49.0, 1.0, 18.0 / 19.0,
+                                                0.904508, 0.836357};
+    double f = frac[o->shape];
+    if (o->shape == VP_SHAPE_SPHERE) {
+        if (o->lattice == VP_LATTICE_SC) f = 0.5236;
+        else if (o->lattice == VP_LATTICE_BCC) f = 0.6802;
+    }
+    return cbrt(ci->volume * f / ((double)o->count * vp_shape_unit_volume(o->shape)));
+}
+
+/* The smallest radius the method will produce, as far as the options tell
+ * before packing (0 when they do not: relax with --target-fraction). */
+static double smallest_radius(const pack_opts *o, const vp_container_info *ci) {
+    if (!strcmp(o->method, "lattice"))
+        return o->radius > 0 ? o->radius : lattice_count_radius(o, ci);
+    if (!strcmp(o->method, "rsa")) {
+        double m = HUGE_VAL;
+        for (int i = 0; i < o->npasses; i++) m = fmin(m, vp_size_dist_min(&o->passes[i].radius));
+        return isfinite(m) ? m : 0.0;
+    }
+    return o->target_fraction > 0 ? 0.0 : vp_size_dist_min(&o->sizes);
+}
+
+/* A radius that a .vdb cannot hold (positions to within VP_POSITION_ERROR_LIMIT
+ * of it): one line naming the radius, before the packing's work. */
+static int vdb_radius_check(const pack_opts *o, const vp_container_info *ci, double r) {
+    if (o->out_format != VP_FORMAT_VDB || !(r > 0)) return 0;
+    double m = 0;
+    for (int k = 0; k < 3; k++) m = fmax(m, fmax(fabs(ci->bmin[k]), fabs(ci->bmax[k])));
+    double least = vp_points_min_radius(m);
+    if (r >= least) return 0;
+    return vp_cli_die(2, "pack: radius %g is too small for a .vdb: OpenVDB's points grid stores "
+                         "positions%s only to within %.3g, more than %g of it (radii from %.3g "
+                         "fit); write .csv or .ply instead, or scale the scene up",
+                      r, m > 536870912.0 * VP_POINTS_MIN_VOXEL ? " this far from the origin" : "",
+                      least * VP_POSITION_ERROR_LIMIT, VP_POSITION_ERROR_LIMIT, least);
+}
+
 static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o,
                             vp_particles **p, run_result *rr) {
     memset(rr, 0, sizeof *rr);
@@ -539,7 +590,8 @@ static void passes_text(const pack_opts *o, char *out, size_t outlen) {
 }
 
 static void print_json(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
-                       const run_result *rr, double fraction, int threads, double seconds) {
+                       const run_result *rr, const vp_write_report *w, double fraction,
+                       int threads, double seconds) {
     printf("{\"command\":\"pack\",\"container\":");
     vp_cli_json_string(stdout, o->container);
     printf(",\"container_kind\":\"%s\",\"container_volume\":%.17g", kind_name(ci->kind),
@@ -598,11 +650,16 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
     printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
            (unsigned long long)o->seed, threads, rr->pack_seconds, seconds);
     vp_cli_json_string(stdout, o->output);
+    if (o->out_format == VP_FORMAT_VDB)
+        printf(",\"position_precision\":\"%s\",\"precision_promoted\":%s,"
+               "\"position_error\":%.17g", w->full_precision ? "full" : "fixed16",
+               w->promoted ? "true" : "false", w->position_error);
     printf("}\n");
 }
 
 static void print_summary(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
-                          const run_result *rr, double fraction, double seconds) {
+                          const run_result *rr, const vp_write_report *w, double fraction,
+                          double seconds) {
     char what[96];
     vp_cli_shape_count(what, sizeof what, p->count, o->shape);
     if (!strcmp(o->method, "lattice"))
@@ -680,6 +737,8 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
         printf("  packing fraction %.4f (%.4f before relaxation)\n", fraction,
                x->initial_fraction);
     }
+    if (o->out_format == VP_FORMAT_VDB && w->promoted)
+        vp_cli_print_promoted(w);
     printf("  wrote %s in %.2f s (packing %.2f s)\n", o->output, seconds, rr->pack_seconds);
 }
 
@@ -787,13 +846,29 @@ int vp_cli_pack(int argc, char **argv) {
         goto done;
     }
 
+    vp_container_info ci;
+    vp_container_get_info(c, &ci);
+    if (!strcmp(o.method, "lattice") && o.count && !(lattice_count_radius(&o, &ci) >= FLT_MIN)) {
+        status = vp_cli_die(2, "pack: --count %llu in %s gives a radius of about %g, below "
+                               "1.2e-38 (radii are stored as float): ask for fewer particles",
+                            (unsigned long long)o.count, o.container,
+                            lattice_count_radius(&o, &ci));
+        goto done;
+    }
+    if ((status = vdb_radius_check(&o, &ci, smallest_radius(&o, &ci))) != 0) goto done;
+    status = 1;
+
     run_result rr;
     if (run_method(ctx, c, &o, &p, &rr) != VP_OK) {
         status = lib_error(ctx);
         goto done;
     }
-    vp_container_info ci;
-    vp_container_get_info(c, &ci);
+    if (!strcmp(o.method, "lattice") && !(rr.lat.radius >= FLT_MIN)) {
+        status = vp_cli_die(2, "pack: --count %llu in %s gives a radius of %g, below 1.2e-38 "
+                               "(radii are stored as float): ask for fewer particles",
+                            (unsigned long long)o.count, o.container, rr.lat.radius);
+        goto done;
+    }
     double fraction = ci.volume > 0 ? vp_particles_volume(p) / ci.volume : 0.0;
 
     if (o.save_container) {
@@ -858,6 +933,9 @@ int vp_cli_pack(int argc, char **argv) {
     wp.full_precision = o.full_precision;
     wp.meta = meta;
     wp.meta_count = nmeta;
+    vp_write_report wrep;
+    memset(&wrep, 0, sizeof wrep);
+    wp.report = &wrep;
     if (vp_cli_write_particles(ctx, o.output, o.out_format, p, &wp, o.quiet) != 0) {
         status = lib_error(ctx);
         goto done;
@@ -887,9 +965,9 @@ int vp_cli_pack(int argc, char **argv) {
     if (prog.shown) fprintf(stderr, "\r%*s\r", 64, "");
 
     if (o.json)
-        print_json(&o, &ci, p, &rr, fraction, vp_context_threads(ctx), seconds);
+        print_json(&o, &ci, p, &rr, &wrep, fraction, vp_context_threads(ctx), seconds);
     else if (!o.quiet)
-        print_summary(&o, &ci, p, &rr, fraction, seconds);
+        print_summary(&o, &ci, p, &rr, &wrep, fraction, seconds);
     status = 0;
 
 done:

@@ -20,6 +20,7 @@ void vp_check_params_init(vp_check_params *p) {
     p->overlap_tolerance = 1e-6;
     p->contact_tolerance = 1e-3;
     p->wall_tolerance = -1.0;
+    p->position_tolerance = VP_POSITION_ERROR_LIMIT;
 }
 
 typedef struct chk {
@@ -94,7 +95,8 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         vp_check_params_init(&def);
         params = &def;
     }
-    if (!(params->overlap_tolerance >= 0) || !(params->contact_tolerance >= 0))
+    if (!(params->overlap_tolerance >= 0) || !(params->contact_tolerance >= 0) ||
+        !(params->position_tolerance >= 0))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: tolerances must be >= 0");
     vp_check_report rep;
     memset(&rep, 0, sizeof rep);
@@ -129,6 +131,13 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         }
     }
     double e = p->position_error > 0 ? p->position_error : 0.0;
+    /* positions stored coarsely against the radii: the widened tolerances
+     * below would let overlaps of that size pass, so the set cannot be
+     * shown to be free of them */
+    if (n > 0 && e > 0) {
+        rep.position_error_ratio = e / rmin;
+        rep.imprecise = !(rep.position_error_ratio <= params->position_tolerance);
+    }
     double wall_tol = params->wall_tolerance;
     if (wall_tol < 0) wall_tol = c->info.voxel_size > 0 ? 0.1 * c->info.voxel_size : 1e-9;
     wall_tol += e;

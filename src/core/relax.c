@@ -22,6 +22,7 @@
 #include "core/sgrid.h"
 #include "core/size_dist_sample.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -221,6 +222,11 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
     double dmin = vp_size_dist_min(&P->radius), dmax = vp_size_dist_max(&P->radius);
     if (!(dmin > 0) || !(dmax >= dmin) || !isfinite(dmax))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "relax: radii must be finite and > 0");
+    /* radii are stored as float (pscale), as vp_size_dist_parse demands */
+    if (!(dmin >= FLT_MIN) || !(dmax <= FLT_MAX))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "relax: radii must be in 1.2e-38..3.4e38 (radii are stored as float), "
+                       "not %g..%g", dmin, dmax);
     if (P->count == 0) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "relax: count must be > 0");
     if (!(P->target_fraction >= 0) || !(P->target_fraction < 1))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -289,6 +295,12 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
         if (s.r[i] > rmax) rmax = s.r[i];
     }
     s.rmax = rmax;
+    if (!(rmin >= FLT_MIN) || !(rmax <= FLT_MAX))
+        res = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                      "relax: the radii scaled to fill the target fraction %g of this container "
+                      "span %g..%g, outside 1.2e-38..3.4e38 (radii are stored as float)",
+                      P->target_fraction, rmin, rmax);
+    if (res != VP_OK) goto done;
     /* random centres in the admissible region (overlaps allowed) */
     uint64_t ps = vp_rng_stream(P->seed, 2);
     for (size_t i = 0; i < n; i++) {

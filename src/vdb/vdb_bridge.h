@@ -123,9 +123,29 @@ int vpv_levelset_write(const vpv_levelset *ls, const char *path,
 
 void vpv_levelset_destroy(vpv_levelset *ls);
 
+/* The position error of P stored in a points grid of voxel size voxel
+ * (as vpv_points_read reports it): sqrt(3) x the codec's step x voxel. */
+static inline double vpv_points_error(double voxel, int full_precision)
+{
+    return 1.7320508075688772 * (full_precision ? 5.9604644775390625e-8 /* 2^-24 */
+                                                : 1.0 / 65535.0) * voxel;
+}
+/* The smallest voxel the writer uses for positions up to maxabs from the
+ * origin: OpenVDB's smallest scale, or what keeps index coordinates within
+ * 2^29. */
+static inline double vpv_points_min_voxel(double maxabs)
+{
+    const double lim = maxabs / 536870912.0; /* 2^29 */
+    return lim > VP_POINTS_MIN_VOXEL ? lim : VP_POINTS_MIN_VOXEL;
+}
+
 /* Writes particles as a PointDataGrid named "points" (see vp_write_points
  * for the attribute layout) to path (not atomic: caller renames). File
- * metadata from params->meta, also copied onto the grid. */
+ * metadata from params->meta, also copied onto the grid. The voxel size and
+ * the codec follow VP_POSITION_ERROR_LIMIT (vdbpack.h): 16-bit fixed point
+ * becomes float where it would be too coarse for the smallest radius; a set
+ * that even float P cannot hold is refused (VP_ERR_INVALID_ARGUMENT, before
+ * anything is written); params->report, if set, is filled on success. */
 int vpv_points_write(const char *path, const vp_particles *p,
                      const vp_write_params *params, char *err, size_t errlen);
 

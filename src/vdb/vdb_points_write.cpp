@@ -109,6 +109,17 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
     }
     if (p->radii)
         for (size_t i = 0; i < count; ++i) rmax = std::max(rmax, std::fabs(double(p->radii[i])));
+    // The smallest positive radius bounds the position error allowed
+    // (VP_POSITION_ERROR_LIMIT); particles without a radius set none.
+    double rmin = HUGE_VAL;
+    if (count > 0) {
+        if (p->radii) {
+            for (size_t i = 0; i < count; ++i)
+                if (double(p->radii[i]) > 0.0) rmin = std::min(rmin, double(p->radii[i]));
+        } else if (double(p->uniform_radius) > 0.0) {
+            rmin = double(p->uniform_radius);
+        }
+    }
     if (p->groups && ngroups > 0)
         for (size_t i = 0; i < count; ++i)
             if (p->groups[i] >= ngroups)
@@ -117,9 +128,6 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
 
     vpv_init();
     return guard(path, Op::Write, err, errlen, [&]() -> int {
-        int rc = check_writable(path, err, errlen);
-        if (rc != VP_OK) return rc;
-
         const Positions pos{p->positions, count};
         double voxel;
         if (count == 0) {
@@ -130,9 +138,44 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
             voxel = double(vp::computeVoxelSize(pos, ppv));
             if (!(voxel > 0.0) || !std::isfinite(voxel)) voxel = rmax > 0.0 ? 2.0 * rmax : 0.1;
         }
-        // Keep index coordinates well inside int32.
-        const double lim = double(1 << 29);
-        if (maxabs / voxel > lim) voxel = maxabs / lim;
+        // Not below the smallest scale OpenVDB's transforms accept (they
+        // throw "Non-zero scale values required"; computeVoxelSize can
+        // return less once it truncates to decimal places), and index
+        // coordinates well inside int32.
+        const double vmin = vpv_points_min_voxel(maxabs);
+        if (!(voxel >= vmin)) voxel = vmin;
+
+        // Precision: never an error above VP_POSITION_ERROR_LIMIT of the
+        // smallest radius. 16-bit fixed point that would exceed it becomes
+        // float; float that would, a finer voxel, down to vmin.
+        bool use_full = full != 0, promoted = false;
+        const double fixed_err = vpv_points_error(voxel, 0);
+        if (std::isfinite(rmin)) {
+            const double allowed = VP_POSITION_ERROR_LIMIT * rmin;
+            if (!use_full && fixed_err > allowed) use_full = promoted = true;
+            if (use_full && vpv_points_error(voxel, 1) > allowed)
+                voxel = std::max(vmin, allowed / vpv_points_error(1.0, 1) * (1.0 - 1e-9));
+            if (use_full && vpv_points_error(voxel, 1) > allowed * (1.0 + 1e-9)) {
+                const double least = vpv_points_error(vmin, 1) / VP_POSITION_ERROR_LIMIT;
+                if (vmin > VP_POINTS_MIN_VOXEL)
+                    return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                                "radius %g is too small for a .vdb with coordinates up to %g: it "
+                                "stores them only to within %.3g, more than %g of the radius "
+                                "(radii from %.3g fit); move the scene near the origin, or write "
+                                ".csv", rmin, maxabs, vpv_points_error(vmin, 1),
+                                VP_POSITION_ERROR_LIMIT, least);
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                            "radius %g is too small for a .vdb: OpenVDB's smallest voxel (%.4g) "
+                            "stores positions only to within %.3g, more than %g of the radius "
+                            "(radii from %.3g fit); write .csv or .ply, or scale the scene up",
+                            rmin, VP_POINTS_MIN_VOXEL, vpv_points_error(vmin, 1),
+                            VP_POSITION_ERROR_LIMIT, least);
+            }
+        }
+        const double pos_err = vpv_points_error(voxel, use_full);
+
+        int rc = check_writable(path, err, errlen);
+        if (rc != VP_OK) return rc;
 
         openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(voxel);
         vp::PointDataGrid::Ptr grid;
@@ -142,7 +185,7 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
             grid->setTransform(xf);
         } else {
             index = openvdb::tools::createPointIndexGrid<openvdb::tools::PointIndexGrid>(pos, *xf);
-            if (full)
+            if (use_full)
                 grid = vp::createPointDataGrid<vp::NullCodec, vp::PointDataGrid>(*index, pos, *xf);
             else
                 grid = vp::createPointDataGrid<vp::FixedPointCodec<false, vp::PositionRange>,
@@ -207,8 +250,33 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
             grid->insertMeta("shape", openvdb::StringMetadata(kShapeNames[p->shape]));
         }
 
+        // How P is stored (the codec alone does not say that 16-bit fixed
+        // point was asked for and refused)
+        if (count > 0 && !has_key(meta, meta_count, "position_precision")) {
+            const char *prec = use_full ? "full" : "fixed16";
+            fm.insertMeta("position_precision", openvdb::StringMetadata(prec));
+            grid->insertMeta("position_precision", openvdb::StringMetadata(prec));
+            fm.insertMeta("position_error", openvdb::DoubleMetadata(pos_err));
+            grid->insertMeta("position_error", openvdb::DoubleMetadata(pos_err));
+            if (promoted) {
+                fm.insertMeta("position_precision_requested", openvdb::StringMetadata("fixed16"));
+                grid->insertMeta("position_precision_requested",
+                                 openvdb::StringMetadata("fixed16"));
+            }
+        }
+
         openvdb::GridCPtrVec grids;
         grids.push_back(grid);
-        return write_vdb_checked(path, grids, fm, err, errlen);
+        rc = write_vdb_checked(path, grids, fm, err, errlen);
+        if (rc == VP_OK && params && params->report) {
+            vp_write_report *r = params->report;
+            r->full_precision = use_full ? 1 : 0;
+            r->promoted = promoted ? 1 : 0;
+            r->voxel_size = voxel;
+            r->position_error = pos_err;
+            r->fixed16_error = vpv_points_error(voxel, 0);
+            r->min_radius = std::isfinite(rmin) ? rmin : 0.0;
+        }
+        return rc;
     });
 }

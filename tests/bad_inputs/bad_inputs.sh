@@ -217,6 +217,21 @@ fi
 for r in 0 -1 nan abc inf 1e999; do
     expect_error "--radius $r" "radius" "" -- pack sphere:1 --radius "$r" -o out.vdb
 done
+# radii below float's smallest normal value (1.2e-38): refused by every
+# method, as rsa did (lattice and relax stored them as denormals or 0)
+expect_error "lattice --radius below float" "radius.*1\.2e-38.*float" "" -- pack sphere:1e-40 --radius 2e-41 -o out.csv
+expect_error "lattice --count: radius below float" "count 10.*1\.2e-38.*float" 5 -- pack sphere:1e-40 --count 10 -o out.csv
+expect_error "relax --radius below float" "1\.2e-38.*float" "" -- pack sphere:1e-40 --method relax --radius 2e-41 --count 10 -o out.csv
+expect_error "relax scaled radii below float" "relax.*target fraction.*1\.2e-38.*float" 5 -- pack sphere:1e-38 --method relax --radius 1 --count 1 --target-fraction 0.1 -o out.csv
+# radii a .vdb cannot hold: OpenVDB's smallest voxel (1.44e-5) stores
+# positions to 1.5e-12 at best (16-bit fixed point put 55 spheres of radius
+# 2e-11 on one point); refused before packing when the radius is known,
+# else when writing, never with OpenVDB's exception text or a temp name
+expect_error "radius too small for a .vdb" "^vdbpack: pack: radius 2e-11 is too small for a \.vdb.*\.csv" 5 -- pack sphere:1e-10 --radius 2e-11 -o out.vdb
+expect_error "rsa radius too small for a .vdb" "^vdbpack: pack: radius 1e-10 is too small for a \.vdb" 5 -- pack sphere:1e-9 --method rsa --radius 1e-10 --count 5 -o out.vdb
+expect_error "relax radii too small for a .vdb" "^vdbpack: out\.vdb: radius [0-9.e-]+ is too small for a \.vdb" 10 -- pack sphere:1e-9 --method relax --radius 1 --count 50 --target-fraction 0.3 -o out.vdb
+printf 'id,x,y,z,pscale,group\n0,0,0,0,1e-20,pass1\n' >tiny.csv
+expect_error "convert: radius too small for a .vdb" "^vdbpack: out\.vdb: radius 1e-20 is too small for a \.vdb" "" -- convert ../tiny.csv out.vdb
 expect_error "radius too large" "radius|too large|no particle|fit|0 particles|none" "" -- pack sphere:1 --radius 5 -o out.vdb
 expect_error "--count 0" "count" "" -- pack sphere:1 --count 0 -o out.vdb
 expect_error "--count -5" "count" "" -- pack sphere:1 --count -5 -o out.vdb
