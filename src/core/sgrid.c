@@ -10,14 +10,18 @@
 static int level_alloc(vp_sgrid_level *L, const double lo[3], const double hi[3], double h,
                        size_t max_cells) {
     for (;;) {
-        double cells = 1.0;
+        double cells = 1.0, dims[3];
         for (int k = 0; k < 3; k++) {
             double n = floor((hi[k] - lo[k]) / h) + 1.0;
-            if (n < 1) n = 1;
-            L->dims[k] = (int64_t)n;
-            cells *= n;
+            dims[k] = n < 1 ? 1 : n;
+            cells *= dims[k];
         }
-        if (cells <= (double)max_cells || cells <= 1.0) break;
+        if (cells <= (double)max_cells || cells <= 1.0) {
+            /* converted once they fit: a tiny h over a long axis (a slab
+             * 1e-20 thick sizes h by its radii) is far beyond int64 */
+            for (int k = 0; k < 3; k++) L->dims[k] = (int64_t)dims[k];
+            break;
+        }
         h *= 1.25;
     }
     L->h = h;
