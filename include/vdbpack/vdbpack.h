@@ -280,6 +280,11 @@ typedef struct vp_lattice_report {
     double seconds;
 } vp_lattice_report;
 
+/* The packing fraction of the infinite lattice that vp_pack_lattice uses
+ * for shape on lattice (VP_LATTICE_DEFAULT resolved as there), or 0 when
+ * the combination is not offered. */
+double vp_lattice_fraction(vp_shape shape, vp_lattice lattice);
+
 /* Fills container c. *out is owned by the caller; report may be NULL. */
 vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c,
                           const vp_lattice_params *params, vp_particles **out,

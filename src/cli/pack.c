@@ -477,13 +477,7 @@ static double largest_radius(const pack_opts *o) {
  * lattice's, which fills the container's volume with count particles); the
  * radius it ends with is about this or smaller. */
 static double lattice_count_radius(const pack_opts *o, const vp_container_info *ci) {
-    static const double frac[VP_SHAPE_COUNT] = {0.74048, 18.0 / 49.0, 1.0, 18.0 / 19.0,
-                                                0.904508, 0.836357};
-    double f = frac[o->shape];
-    if (o->shape == VP_SHAPE_SPHERE) {
-        if (o->lattice == VP_LATTICE_SC) f = 0.5236;
-        else if (o->lattice == VP_LATTICE_BCC) f = 0.6802;
-    }
+    double f = vp_lattice_fraction(o->shape, o->lattice);
     return cbrt(ci->volume * f / ((double)o->count * vp_shape_unit_volume(o->shape)));
 }
 

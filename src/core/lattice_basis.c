@@ -154,3 +154,8 @@ int vp_lattice_basis_get(vp_shape shape, vp_lattice lattice, vp_lattice_basis *o
     *out = b;
     return 0;
 }
+
+double vp_lattice_fraction(vp_shape shape, vp_lattice lattice) {
+    vp_lattice_basis lb;
+    return vp_lattice_basis_get(shape, lattice, &lb) == 0 ? lb.fraction : 0.0;
+}
