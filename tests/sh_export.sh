@@ -17,6 +17,10 @@ PY=/usr/bin/python3
 "$PY" -c 'import numpy' 2>/dev/null || { echo "SKIP: no numpy"; exit 77; }
 EC="$VP_SRC/tests/py/export_check.py"
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT; cd "$W"
+# outputs written through (devices, FIFOs, pipes) are staged in $TMPDIR:
+# a scratch one here, which must be empty after every case
+mkdir "$W/tmp"; export TMPDIR="$W/tmp"
+tmp_clean() { [ -z "$(ls -A "$TMPDIR")" ] || die "$1: left in TMPDIR: $(ls -A "$TMPDIR")"; }
 die() { echo "FAIL: $*"; exit 1; }
 
 # NAME CONTAINER pack-args...: .vdb, then .ply and .csv both from pack -o and
@@ -161,6 +165,28 @@ echo "  ok: FIFO written through ($(wc -c <from_fifo.csv) bytes read from it)"
 cmp -s from_stdout.csv direct.csv || die "-o /dev/stdout: not the output"
 [ -L /dev/stdout ] || die "/dev/stdout is no longer a link"
 echo "  ok: -o /dev/stdout piped ($(wc -l <from_stdout.csv) lines)"
+# without -q the summary would land in the data: it goes to stderr instead
+"$VDBPACK" pack sphere:1 --radius 0.1 -o /dev/stdout --format csv 2>sum.err | cat >from_stdout2.csv
+cmp -s from_stdout2.csv direct.csv || die "-o /dev/stdout without -q: the summary is in the data"
+grep -q "^vdbpack: packed" sum.err || die "-o /dev/stdout: no summary on stderr: $(cat sum.err)"
+# a reader that goes away: EPIPE, one line, exit 1, nothing left in TMPDIR
+# (the write used to die of SIGPIPE with exit 141, its staged copy left)
+set +o pipefail
+"$VDBPACK" pack sphere:1 --radius 0.02 -q -o /dev/stdout --format csv 2>pipe.err | head -c 1 >/dev/null
+rc=${PIPESTATUS[0]}
+set -o pipefail
+[ "$rc" = 1 ] && [ "$(wc -l <pipe.err)" = 1 ] && grep -q "Broken pipe" pipe.err ||
+  die "-o /dev/stdout | head -c 1: exit $rc: $(cat pipe.err)"
+tmp_clean "-o /dev/stdout | head -c 1"
+echo "  ok: summary to stderr when -o is stdout; a closed pipe: $(cat pipe.err)"
+# a job that fails after some outputs were written removes the files it
+# wrote, never a link (its file goes) nor a device or FIFO
+echo old >shape_target.obj; ln -s shape_target.obj shape_link.obj
+rc=0; (ulimit -f 4; "$VDBPACK" pack box:1,1,1 --shape cube --radius 0.05 -q -o big.csv --shape-out shape_link.obj) 2>fsz.err || rc=$?
+[ "$rc" = 1 ] && [ "$(wc -l <fsz.err)" = 1 ] || die "a main output over ulimit -f: exit $rc: $(cat fsz.err)"
+[ -L shape_link.obj ] || die "the --shape-out link was removed"
+[ ! -e shape_target.obj ] && [ ! -e big.csv ] || die "a failed job left its outputs"
+echo "  ok: a failed job removed the file its --shape-out link names, kept the link: $(cat fsz.err)"
 if mknod -m 666 null c 1 3 2>/dev/null && mknod -m 666 full c 1 7 2>/dev/null; then
   "$VDBPACK" pack sphere:1 --radius 0.1 -q -o null --format csv || die "-o null (a device)"
   [ -c null ] || die "the device null was replaced by a file"
@@ -168,8 +194,32 @@ if mknod -m 666 null c 1 3 2>/dev/null && mknod -m 666 full c 1 7 2>/dev/null; t
   [ "$rc" = 1 ] && [ "$(wc -l <full.err)" = 1 ] && grep -q "full: cannot write output (No space left on device)" full.err ||
     die "-o full (like /dev/full): exit $rc: $(cat full.err)"
   [ -c full ] || die "the device full was replaced by a file"
+  tmp_clean "-o null, -o full"
+  # a failed preview after the main output went to a device, and a failed
+  # main output after --shape-out went to one: the devices stay
+  rc=0; (ulimit -f 4; "$VDBPACK" pack sphere:1 --radius 0.5 -q -o null --format csv --preview pv.png) 2>pv.err || rc=$?
+  [ "$rc" = 1 ] && [ -c null ] && [ ! -e pv.png ] || die "-o null with a failed preview: exit $rc, null $(stat -c %F null): $(cat pv.err)"
+  rc=0; "$VDBPACK" pack sphere:1 --radius 0.1 -q -o full --format csv --shape-out null 2>so.err || rc=$?
+  [ "$rc" = 2 ] && grep -q "ending in .obj" so.err || die "--shape-out null: exit $rc: $(cat so.err)"
+  mknod -m 666 null.obj c 1 3
+  rc=0; "$VDBPACK" pack box:1,1,1 --radius 0.1 -q -o full --format csv --shape-out null.obj 2>so.err || rc=$?
+  [ "$rc" = 1 ] && [ -c null.obj ] || die "--shape-out null.obj then -o full: exit $rc, null.obj $(stat -c %F null.obj): $(cat so.err)"
+  tmp_clean "failed jobs with devices"
+  echo "  ok: failed jobs keep the devices they wrote to"
   echo "  ok: devices written through: null, and full: $(cat full.err)"
 else
   echo "  (mknod not permitted: device outputs not tested)"
 fi
+echo "=== a .vdb whose tree would exceed --max-memory"
+# 1e5 spheres of radius 1e-7: positions to 1e-3 of it need voxels of about
+# 1e-3, a leaf node a sphere (about 0.6 GB); .csv is small
+rc=0; "$VDBPACK" pack box:1,1,1 --method rsa --radius 1e-7 --count 100000 -q -o tiny.vdb --max-memory 300M 2>tiny.err || rc=$?
+[ "$rc" = 1 ] && [ "$(wc -l <tiny.err)" = 1 ] && grep -q "leaf nodes" tiny.err && [ ! -e tiny.vdb ] ||
+  die "tiny sparse spheres as .vdb under --max-memory 300M: exit $rc: $(cat tiny.err)"
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 1e-7 --count 100000 -q -o tiny.csv --max-memory 300M || die "the same as .csv"
+"$VDBPACK" convert tiny.csv tiny2.vdb -q --max-memory 300M 2>tiny2.err && die "convert wrote the .vdb over the limit"
+grep -q "leaf nodes" tiny2.err || die "convert: $(cat tiny2.err)"
+# an ordinary packing under a modest limit is written
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.002 --count 100000 -q -o dense.vdb --max-memory 300M || die "1e5 dense spheres under 300M"
+echo "  ok: $(cut -c1-100 tiny.err)..."
 echo "PASS: sh_export"

@@ -841,6 +841,50 @@ static void test_points_tiny_radii(void)
 /* vp_check_particles: a position error above position_tolerance of the
  * smallest radius is a violation (imprecise), not a pass with the overlap
  * tolerance widened by it. */
+/* Sparse tiny particles: positions to 1e-3 of a radius of 1e-7 need
+ * voxels of about 1e-3, a leaf node per particle spread over a unit box
+ * (about 6 KB each): refused above max_memory before the grid is built,
+ * written without a limit; dense particles under the same limit pass. */
+static void test_points_memory_estimate(void)
+{
+    enum { N = 3000 };
+    char path[300];
+    tmp_path(path, sizeof path, "sparse.vdb");
+    vp_particles p;
+    particles_with_positions(&p, N);
+    p.uniform_radius = 1e-7f;
+    p.shape = VP_SHAPE_SPHERE;
+    srand(17);
+    for (int i = 0; i < 3 * N; ++i) p.positions[i] = (double)rand() / RAND_MAX;
+    vp_write_params wp;
+    vp_write_params_init(&wp);
+    wp.max_memory = 8000000; /* 8 MB: N leaves take about 18 */
+    remove(path);
+    int rc = vpv_points_write(path, &p, &wp, err, sizeof err);
+    fprintf(stderr, "   sparse, 8 MB: %s\n", err);
+    ASSERT_EQ_INT(rc, VP_ERR_OUT_OF_MEMORY);
+    ASSERT_TRUE(strstr(err, "leaf nodes") != NULL);
+    FILE *f = fopen(path, "rb");
+    ASSERT_TRUE(f == NULL); /* refused before anything was written */
+    wp.max_memory = 40000000; /* 40 MB: passes */
+    ASSERT_EQ_INT(vpv_points_write(path, &p, &wp, err, sizeof err), VP_OK);
+    wp.max_memory = 0; /* no limit */
+    ASSERT_EQ_INT(vpv_points_write(path, &p, &wp, err, sizeof err), VP_OK);
+    /* the same count packed close (radius 1e-3, a grid of spacing 2e-3):
+     * a few leaves, under 8 MB */
+    p.uniform_radius = 1e-3f;
+    for (int i = 0; i < N; ++i) {
+        p.positions[3 * i + 0] = 2e-3 * (i % 15);
+        p.positions[3 * i + 1] = 2e-3 * ((i / 15) % 15);
+        p.positions[3 * i + 2] = 2e-3 * (i / 225);
+    }
+    wp.max_memory = 8000000;
+    rc = vpv_points_write(path, &p, &wp, err, sizeof err);
+    if (rc) fprintf(stderr, "%s\n", err);
+    ASSERT_EQ_INT(rc, VP_OK);
+    free(p.positions);
+}
+
 static void test_check_imprecise(void)
 {
     vp_context *ctx = NULL;
@@ -1015,6 +1059,7 @@ int main(void)
     RUN_TEST(test_shared_levelsets);
     RUN_TEST(test_points);
     RUN_TEST(test_points_tiny_radii);
+    RUN_TEST(test_points_memory_estimate);
     RUN_TEST(test_check_imprecise);
     RUN_TEST(test_probe_after_tbb_work);
     RUN_TEST(test_quiesce_while_tbb_busy);

@@ -41,6 +41,7 @@ static int vp_test_failures __attribute__((unused)) = 0;
 #define VP_TEST_SANITIZED 0
 #endif
 #if defined(__unix__) && !defined(__cplusplus)
+#include <errno.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -62,7 +63,9 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
         _exit(0);
     }
     int st = 0;
-    while (waitpid(pid, &st, 0) < 0) {}
+    while (waitpid(pid, &st, 0) < 0) {
+        if (errno != EINTR) { perror("waitpid"); exit(1); }
+    }
     if (WIFSIGNALED(st)) {
         fprintf(stderr, "   bounded run killed by signal %d (%s)\n", WTERMSIG(st),
                 WTERMSIG(st) == SIGALRM ? "over its time limit" : "a crash or the memory limit");

@@ -66,6 +66,17 @@ void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user);
  * renamed). For a signal handler that is about to _exit(); the targets of
  * finished writes are not touched. */
 void vp_remove_partial_outputs(void);
+/* The file that a write to path replaces, in out (outlen bytes): path
+ * with its symbolic links followed, as the writers follow them. 1 when
+ * that is an existing regular file; 0 when there is none or it is not a
+ * regular file (a device or FIFO, which writers write through and never
+ * replace), or the name does not fit. */
+int vp_output_file(const char *path, char *out, size_t outlen);
+/* Removes what a finished write to path left: the regular file it
+ * replaced (links followed; the links stay), and nothing that is not a
+ * regular file. For a job that fails after some of its outputs were
+ * written. */
+void vp_remove_output(const char *path);
 /* Memory limit in bytes for estimates (0 = physical memory). */
 void vp_context_set_max_memory(vp_context *ctx, uint64_t bytes);
 uint64_t vp_context_max_memory(const vp_context *ctx);
@@ -341,6 +352,10 @@ typedef struct vp_write_params {
     size_t meta_count;
     vp_write_report *report; /* may be NULL; owned by the caller, filled on
                                 success */
+    uint64_t max_memory;     /* bytes: a points grid whose OpenVDB tree is
+                                estimated above it is refused
+                                (VP_ERR_OUT_OF_MEMORY) before it is built;
+                                0 in vp_write_points: the context's limit */
 } vp_write_params;
 void vp_write_params_init(vp_write_params *p);
 

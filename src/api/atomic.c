@@ -44,35 +44,48 @@ void vp_remove_partial_outputs(void) {
 }
 
 /* The file a symbolic link at path names (links followed up to 40 deep,
- * as the kernel does), in out; 0, or -1 when the chain is too long or a
- * name too long. A dangling link names the file it would create. */
+ * as the kernel does), in out; 0, or the errno of the failure: ELOOP for a
+ * chain too long, ENAMETOOLONG for a name too long, readlink's own. A
+ * dangling link names the file it would create. */
 static int follow_links(const char *path, char *out, size_t outlen) {
     char cur[4096];
-    if (strlen(path) >= sizeof cur) return -1;
+    if (strlen(path) >= sizeof cur) return ENAMETOOLONG;
     strcpy(cur, path);
     for (int depth = 0; depth < 40; depth++) {
         struct stat st;
         if (lstat(cur, &st) != 0 || !S_ISLNK(st.st_mode)) {
-            if (strlen(cur) >= outlen) return -1;
+            if (strlen(cur) >= outlen) return ENAMETOOLONG;
             strcpy(out, cur);
             return 0;
         }
         char link[4096];
         ssize_t n = readlink(cur, link, sizeof link - 1);
-        if (n < 0) return -1;
+        if (n < 0) return errno ? errno : EIO;
         link[n] = 0;
         char next[4096];
         const char *slash = strrchr(cur, '/');
         if (link[0] == '/' || !slash) {
-            if ((size_t)n >= sizeof next) return -1;
+            if ((size_t)n >= sizeof next) return ENAMETOOLONG;
             strcpy(next, link);
         } else {
             int w = snprintf(next, sizeof next, "%.*s/%s", (int)(slash - cur), cur, link);
-            if (w < 0 || (size_t)w >= sizeof next) return -1;
+            if (w < 0 || (size_t)w >= sizeof next) return ENAMETOOLONG;
         }
         strcpy(cur, next);
     }
-    return -1;
+    return ELOOP;
+}
+
+int vp_output_file(const char *path, char *out, size_t outlen) {
+    struct stat st;
+    if (!path || !*path || !out || !outlen) return 0;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) return 0; /* absent, device, FIFO, ... */
+    return follow_links(path, out, outlen) == 0;
+}
+
+void vp_remove_output(const char *path) {
+    char file[4096];
+    if (vp_output_file(path, file, sizeof file)) unlink(file);
 }
 
 vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
@@ -92,9 +105,10 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     a->through = stat(path, &st) == 0 && !S_ISREG(st.st_mode);
     if (a->through) {
         memcpy(target, path, n + 1);
-    } else if (follow_links(path, target, sizeof a->final_path - 32) != 0) {
+    } else {
         /* a link is followed: renaming onto it would replace the link */
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(ELOOP));
+        int e = follow_links(path, target, sizeof a->final_path - 32);
+        if (e) return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
     }
     n = strlen(target);
     memcpy(a->final_path, target, n + 1);
@@ -113,10 +127,11 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output: directory %s does not exist",
                        path, dir);
     int w;
-    if (a->through) /* not beside a device: /dev may not take files */
+    if (a->through) { /* not beside a device: /dev may not take files */
+        const char *tmpdir = getenv("TMPDIR");
         w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/vdbpack-out.tmp-XXXXXX",
-                     getenv("TMPDIR") && *getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-    else
+                     tmpdir && *tmpdir ? tmpdir : "/tmp");
+    } else
         w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/.%s.tmp-XXXXXX", dir,
                      slash ? slash + 1 : path);
     if (w < 0 || (size_t)w >= sizeof a->tmp_path) {

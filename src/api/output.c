@@ -32,12 +32,14 @@ vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles 
         vp_write_params_init(&def);
         params = &def;
     }
+    vp_write_params wp = *params;
+    if (!wp.max_memory) wp.max_memory = vp_memory_limit(ctx);
     vpv_init();
     vp_atomic a;
     vp_result r = vp_atomic_begin(ctx, path, &a);
     if (r != VP_OK) return r;
     char err[1024];
-    int rc = vpv_points_write(a.tmp_path, p, params, err, sizeof err);
+    int rc = vpv_points_write(a.tmp_path, p, &wp, err, sizeof err);
     if (rc != VP_OK) {
         vp_atomic_abort(&a);
         return vp_fail(ctx, (vp_result)rc, "%s: %s", path, err);

@@ -99,6 +99,10 @@ int vp_cli_output_format(const char *cmd, const char *path, const char *format, 
 #define VP_CLI_OBJ_WARN_COUNT 1000000
 struct vp_particles;
 struct vp_write_params;
+/* After an output was written to path: when that is the standard output
+ * itself (-o /dev/stdout, a pipe), what the command prints next (the
+ * summary, --json) goes to stderr instead, so the data stays clean. */
+void vp_cli_divert_stdout(const char *path);
 int vp_cli_write_particles(struct vp_context *ctx, const char *path, int format,
                            const struct vp_particles *p, const struct vp_write_params *wp,
                            int quiet);

@@ -28,6 +28,8 @@ const char *VP_CONVERT_HELP =
     "  --precision fixed16|full  .vdb output: P as 16-bit fixed point or 32-bit float\n"
     "                          (default full; float wherever 16 bits would round by\n"
     "                          over 1e-3 of the smallest radius)\n"
+    "  --max-memory SIZE       refuse a .vdb output estimated above SIZE (e.g. 8G;\n"
+    "                          default: RAM)\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
 
@@ -75,7 +77,9 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
                             ".csv keep them, or move the container near the origin\n",
                     path, cmax, sqrt(3.0) * half_ulp, 100.0 * sqrt(3.0) * half_ulp / rmin);
     }
-    return vp_export(ctx, path, p, &ep) == VP_OK ? 0 : 1;
+    if (vp_export(ctx, path, p, &ep) != VP_OK) return 1;
+    vp_cli_divert_stdout(path);
+    return 0;
 }
 
 void vp_cli_print_promoted(const vp_write_report *w) {
@@ -88,6 +92,7 @@ void vp_cli_print_promoted(const vp_write_report *w) {
 int vp_cli_convert(int argc, char **argv) {
     const char *in = NULL, *out = NULL, *format = NULL, *shape_name = NULL;
     int quiet = 0, full = 1;
+    uint64_t max_memory = 0;
     vp_cli_seen seen = {0};
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
@@ -95,6 +100,13 @@ int vp_cli_convert(int argc, char **argv) {
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(VP_CONVERT_HELP, stdout);
             return 0;
+        } else if (!strcmp(a, "--max-memory")) {
+            if (!v) return vp_cli_die(2, "convert: %s needs a value", a);
+            if (vp_cli_once(&seen, "convert", a, v)) return 2;
+            i++;
+            if (vp_cli_parse_size(v, &max_memory) != 0)
+                return vp_cli_die(2, "convert: --max-memory must be a size such as 8G or 500M, "
+                                     "not '%s'", v);
         } else if (!strcmp(a, "--format") || !strcmp(a, "--shape") || !strcmp(a, "--precision")) {
             if (!v) return vp_cli_die(2, "convert: %s needs a value", a);
             if (vp_cli_once(&seen, "convert", a, v)) return 2;
@@ -143,6 +155,7 @@ int vp_cli_convert(int argc, char **argv) {
 
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
+    if (max_memory) vp_context_set_max_memory(ctx, max_memory);
     vp_cli_signals_install();
     vp_particles *p = NULL;
     int status = 1, needs_shape = 0;

@@ -65,6 +65,7 @@ static const char *PACK_HELP =
     "                          count=max fills until no room is left (one radius);\n"
     "                          grow: afterwards each particle of the pass grows until\n"
     "                          it touches; the pass's particles form group passK or G\n"
+    "                          (G: 1-31 letters, digits or _, not __..., unique)\n"
     "  --radius SIZE --count N|max   a single pass, instead of --pass\n"
     "  --retries K             failed tries in a row that end a pass (default 5000)\n"
     "  --grow                  with --radius/--count: grow the pass's particles\n"

@@ -943,7 +943,7 @@ int vp_cli_pack(int argc, char **argv) {
         /* the preview is part of the job: if it fails, no output stays */
         vp_cli_signals_track_output(o.output);
         if (vp_cli_render_particles(ctx, p, NULL, o.preview) != 0) {
-            unlink(o.output);
+            vp_remove_output(o.output);
             status = lib_error(ctx);
             goto done;
         }
@@ -965,7 +965,7 @@ int vp_cli_pack(int argc, char **argv) {
     status = 0;
 
 done:
-    for (int i = 0; i < ncreated; i++) unlink(created[i]);
+    for (int i = 0; i < ncreated; i++) vp_remove_output(created[i]);
     if (prog.shown && status) fprintf(stderr, "\r%*s\r", 64, "");
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);

@@ -111,7 +111,9 @@ int vp_cli_render_particles(vp_context *ctx, const vp_particles *p, const vp_ren
     if (vp_render(ctx, p, rp, &img) != VP_OK) return 1;
     vp_result r = vp_image_write(ctx, img, path);
     vp_image_destroy(img);
-    return r == VP_OK ? 0 : 1;
+    if (r != VP_OK) return 1;
+    vp_cli_divert_stdout(path);
+    return 0;
 }
 
 static int on_progress(void *user, double fraction, const char *stage) {

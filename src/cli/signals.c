@@ -16,17 +16,23 @@
 #define MAX_TRACKED 4
 static volatile sig_atomic_t g_signal = 0;
 static volatile sig_atomic_t g_done = 0;
-static const char *volatile g_outputs[MAX_TRACKED];
+/* the regular files (links followed) of the outputs this run has written,
+ * resolved when tracked: the handler only unlinks them */
+static char g_outputs[MAX_TRACKED][4096];
+static volatile sig_atomic_t g_noutputs = 0;
 
 static void put(const char *s) {
     ssize_t r = write(2, s, strlen(s));
     (void)r;
 }
 
+static void remove_tracked(void) {
+    for (int i = 0; i < g_noutputs && i < MAX_TRACKED; i++) unlink(g_outputs[i]);
+}
+
 static void finish_now(void) {
     vp_remove_partial_outputs();
-    for (int i = 0; i < MAX_TRACKED; i++)
-        if (g_outputs[i]) unlink(g_outputs[i]);
+    remove_tracked();
     put(g_signal == SIGTERM ? "vdbpack: terminated (SIGTERM); no output written\n"
                             : "vdbpack: interrupted (SIGINT); no output written\n");
     _exit(128 + (int)g_signal);
@@ -57,20 +63,24 @@ void vp_cli_signals_install(void) {
     /* past the file-size limit (ulimit -f) a write should fail with EFBIG,
      * which the writers report and clean up, not kill the process */
     signal(SIGXFSZ, SIG_IGN);
+    /* a pipe whose reader has gone (-o /dev/stdout | head): the write
+     * fails with EPIPE, which is reported, and the temporary file removed */
+    signal(SIGPIPE, SIG_IGN);
 }
 
 int vp_cli_interrupted(void) { return (int)g_signal; }
 
 void vp_cli_signals_track_output(const char *path) {
-    /* only a regular file this run made is removed: never a device or
-     * FIFO written through (-o /dev/null), nor a symbolic link */
-    struct stat st;
-    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode)) return;
-    for (int i = 0; i < MAX_TRACKED; i++)
-        if (!g_outputs[i]) {
-            g_outputs[i] = path;
-            return;
-        }
+    /* only a regular file this run wrote is removed, the file a symbolic
+     * link names rather than the link: never a device or FIFO written
+     * through (-o /dev/null) */
+    if (g_noutputs >= MAX_TRACKED) return;
+    char file[sizeof g_outputs[0]];
+    if (!vp_output_file(path, file, sizeof file)) return;
+    for (int i = 0; i < g_noutputs; i++)
+        if (!strcmp(g_outputs[i], file)) return;
+    memcpy(g_outputs[g_noutputs], file, sizeof file);
+    g_noutputs = g_noutputs + 1; /* published once its name is complete */
 }
 
 void vp_cli_signals_done(void) {
@@ -80,8 +90,7 @@ void vp_cli_signals_done(void) {
 
 int vp_cli_interrupted_exit(void) {
     alarm(0);
-    for (int i = 0; i < MAX_TRACKED; i++)
-        if (g_outputs[i]) unlink(g_outputs[i]);
+    remove_tracked();
     put(g_signal == SIGTERM ? "vdbpack: terminated (SIGTERM); no output written\n"
                             : "vdbpack: interrupted (SIGINT); no output written\n");
     return 128 + (int)g_signal;

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
 
@@ -188,4 +189,12 @@ int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file
         fprintf(stderr, "vdbpack: warning: %s was packed with the mesh shape '%s', not '%s'\n",
                 file, recorded, base);
     return 0;
+}
+
+void vp_cli_divert_stdout(const char *path) {
+    struct stat a, b;
+    if (stat(path, &a) != 0 || S_ISREG(a.st_mode) || fstat(1, &b) != 0) return;
+    if (a.st_dev != b.st_dev || a.st_ino != b.st_ino) return;
+    fflush(stdout);
+    dup2(2, 1);
 }

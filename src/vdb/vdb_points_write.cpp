@@ -7,7 +7,10 @@
 #include <openvdb/points/PointGroup.h>
 #include <openvdb/tools/PointIndexGrid.h>
 
+#include <algorithm>
+#include <array>
 #include <climits>
+#include <vector>
 #include <cmath>
 #include <cstring>
 #include <set>
@@ -58,6 +61,38 @@ struct Orients {
 const char *const kShapeNames[] = {"sphere", "tetrahedron", "cube", "octahedron", "dodecahedron",
                                    "icosahedron"};
 
+// Memory of a points grid being built (and its point index grid): per
+// leaf node, whatever the points in it (voxel offsets, attribute arrays and
+// their headers, measured: docs/export.md), and per point.
+constexpr double VPV_POINTS_LEAF_BYTES = 6000.0;
+constexpr double VPV_POINTS_POINT_BYTES = 64.0;
+
+void format_bytes(double b, char *out, size_t len)
+{
+    if (b >= 1e9) snprintf(out, len, "%.1f GB", b / 1e9);
+    else snprintf(out, len, "%.1f MB", b / 1e6);
+}
+
+// The number of leaf nodes (8^3 voxels) the points occupy at this voxel
+// size, counted only when the box they lie in could hold more than the
+// memory limit's worth (the usual packing is far from it: at least one
+// point per leaf by the count, a few per voxel). lo, hi: the points' box.
+size_t leaf_count(const Positions &pos, const double lo[3], const double hi[3], double voxel,
+                  double max_bytes)
+{
+    const double side = 8.0 * voxel;
+    double box = 1.0;
+    for (int k = 0; k < 3; ++k) box *= std::floor((hi[k] - lo[k]) / side) + 2.0;
+    const double bound = std::min(double(pos.n), box);
+    if (bound * VPV_POINTS_LEAF_BYTES <= max_bytes) return size_t(bound);
+    std::vector<std::array<int64_t, 3>> keys(pos.n);
+    for (size_t i = 0; i < pos.n; ++i)
+        for (int k = 0; k < 3; ++k)
+            keys[i][k] = int64_t(std::floor(std::floor(pos.p[3 * i + k] / voxel + 0.5) / 8.0));
+    std::sort(keys.begin(), keys.end());
+    return size_t(std::unique(keys.begin(), keys.end()) - keys.begin());
+}
+
 bool has_key(const vp_meta *meta, size_t n, const char *key)
 {
     for (size_t i = 0; meta && i < n; ++i)
@@ -101,11 +136,14 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
         }
     }
     double maxabs = 0.0, rmax = p->radii ? 0.0 : std::fabs(double(p->uniform_radius));
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (size_t i = 0; i < 3 * count; ++i) {
         const double x = p->positions[i];
         if (!std::isfinite(x))
             return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu has a non-finite position", i / 3);
         maxabs = std::max(maxabs, std::fabs(x));
+        lo[i % 3] = std::min(lo[i % 3], x);
+        hi[i % 3] = std::max(hi[i % 3], x);
     }
     if (p->radii)
         for (size_t i = 0; i < count; ++i) rmax = std::max(rmax, std::fabs(double(p->radii[i])));
@@ -173,6 +211,22 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
             }
         }
         const double pos_err = vpv_points_error(voxel, use_full);
+        const uint64_t max_bytes = params ? params->max_memory : 0;
+        if (max_bytes > 0) {
+            const double leaves = double(leaf_count(pos, lo, hi, voxel, double(max_bytes)));
+            const double bytes = leaves * VPV_POINTS_LEAF_BYTES + double(count) * VPV_POINTS_POINT_BYTES;
+            if (bytes > double(max_bytes)) {
+                char need[32], lim[32];
+                format_bytes(bytes, need, sizeof need);
+                format_bytes(double(max_bytes), lim, sizeof lim);
+                return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
+                            "a .vdb of these %zu particles needs an estimated %s of memory "
+                            "(%.0f leaf nodes: positions to within %g of the smallest radius need "
+                            "voxels of %.3g, and the particles lie far apart at that scale), "
+                            "more than the limit of %s; write .csv or .ply, or raise --max-memory",
+                            count, need, leaves, VP_POSITION_ERROR_LIMIT, voxel, lim);
+            }
+        }
 
         int rc = check_writable(path, err, errlen);
         if (rc != VP_OK) return rc;
