@@ -583,6 +583,14 @@ static void passes_text(const pack_opts *o, char *out, size_t outlen) {
     }
 }
 
+/* A lattice --count whose radius (estimated: about "about ") is below
+ * float's smallest normal value, which pscale cannot hold: exit 2. */
+static int count_radius_too_small(const pack_opts *o, const char *about, double r) {
+    return vp_cli_die(2, "pack: --count %llu in %s gives a radius of %s%g, below 1.2e-38 (radii "
+                         "are stored as float): ask for fewer particles",
+                      (unsigned long long)o->count, o->container, about, r);
+}
+
 static void print_json(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
                        const run_result *rr, const vp_write_report *w, double fraction,
                        int threads, double seconds) {
@@ -843,10 +851,7 @@ int vp_cli_pack(int argc, char **argv) {
     vp_container_info ci;
     vp_container_get_info(c, &ci);
     if (!strcmp(o.method, "lattice") && o.count && !(lattice_count_radius(&o, &ci) >= FLT_MIN)) {
-        status = vp_cli_die(2, "pack: --count %llu in %s gives a radius of about %g, below "
-                               "1.2e-38 (radii are stored as float): ask for fewer particles",
-                            (unsigned long long)o.count, o.container,
-                            lattice_count_radius(&o, &ci));
+        status = count_radius_too_small(&o, "about ", lattice_count_radius(&o, &ci));
         goto done;
     }
     if ((status = vdb_radius_check(&o, &ci, smallest_radius(&o, &ci))) != 0) goto done;
@@ -858,9 +863,7 @@ int vp_cli_pack(int argc, char **argv) {
         goto done;
     }
     if (!strcmp(o.method, "lattice") && !(rr.lat.radius >= FLT_MIN)) {
-        status = vp_cli_die(2, "pack: --count %llu in %s gives a radius of %g, below 1.2e-38 "
-                               "(radii are stored as float): ask for fewer particles",
-                            (unsigned long long)o.count, o.container, rr.lat.radius);
+        status = count_radius_too_small(&o, "", rr.lat.radius);
         goto done;
     }
     double fraction = ci.volume > 0 ? vp_particles_volume(p) / ci.volume : 0.0;
