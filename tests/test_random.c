@@ -384,21 +384,23 @@ static void test_rsa_count_near_saturation(void) {
 /* A refinement over the cell budget (vp_rsa_params.max_cells) is given
  * up part-way: the parents not yet split and the split ones that kept a
  * child go back to the current level, and plain darts go on. With this
- * seed the level-0 to level-1 split (46 656 parents, 2 rounds) runs over
- * 140 000 cells in its second round (167 673): the 13 888 parents not yet
- * split and the first round's parents that kept one of their 117 119
- * children go back. The packing must stay valid (no overlap, inside, the
- * same for any thread count) and dense: the cells handed back still hold
- * every admissible centre, so with 30 000 retries the pass reaches 0.329;
- * handing back only the parents not yet split (a mutation tried on
- * 2026-11-23) loses the rest of the space and stops at 0.252. */
+ * seed the level-0 to level-1 split (46 656 parents at 34 285 spheres, 2
+ * rounds) runs over 120 000 cells in its second round (88 644 + 38 243):
+ * the 13 888 parents not yet split and the first round's parents that
+ * kept one of their 88 644 children go back. The packing must stay valid
+ * (no overlap, inside, the same for any thread count) and dense: the
+ * cells handed back still hold every admissible centre, so with 30 000
+ * retries the pass reaches 0.328; handing back only the parents not yet
+ * split (a mutation tried on 2026-11-23, when level 0 took 4 darts a cell
+ * and the budget here was 140 000) loses the rest of the space and
+ * stopped at 0.252. */
 static void test_rsa_cell_budget(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps;
     vp_rsa_params rp;
     one_pass(&ps, &rp, 0.012, 0, 21);
     ps.retries = 30000;
-    rp.max_cells = 140000;
+    rp.max_cells = 120000;
     vp_particles *a = NULL, *b = NULL;
     vp_rsa_report rep;
     vp_context_set_threads(ctx, 1);
@@ -554,18 +556,21 @@ static double mean_step(const vp_particles *p, size_t first, size_t last, size_t
  * each pass's particles still together, consecutive particles close in
  * space. A pass that grows keeps placement order (random in space). */
 static void test_rsa_grid_order(void) {
+    /* enough spheres in the second pass that its level-0 darts (8 a cell)
+     * do not place them all: it splits, and renumbers before it does */
+    enum { N2 = 40000 };
     vp_container *c = unit_box();
     vp_rsa_pass ps[2];
     vp_rsa_params rp;
-    two_passes(ps, &rp, "0.03", 0, 0, "uniform:0.006:0.01", 8000, 8);
+    two_passes(ps, &rp, "0.03", 0, 0, "uniform:0.006:0.01", N2, 8);
     for (int grow = 0; grow < 2; grow++) {
         ps[0].grow = grow;
         vp_particles *p = NULL;
         vp_rsa_report rep;
         ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
         size_t n1 = rep.passes[0].placed;
-        ASSERT_EQ_INT(rep.passes[1].placed, 8000);
-        ASSERT_EQ_INT(p->count, n1 + 8000);
+        ASSERT_EQ_INT(rep.passes[1].placed, N2);
+        ASSERT_EQ_INT(p->count, n1 + N2);
         ASSERT_LE(worst_overlap(p), 0.0);
         ASSERT_LE(worst_wall_box(p, 0.5), 0.0);
         for (size_t i = 0; i < p->count; i++) {
@@ -575,8 +580,8 @@ static void test_rsa_grid_order(void) {
         }
         /* consecutive particles against particles half a pass apart */
         double r0 = mean_step(p, 0, n1, 1) / mean_step(p, 0, n1, n1 / 2),
-               r1 = mean_step(p, n1, p->count, 1) / mean_step(p, n1, p->count, 4000);
-        fprintf(stderr, "   grow %d: %zu + 8000 spheres; step ratio %.3f, %.3f\n", grow, n1,
+               r1 = mean_step(p, n1, p->count, 1) / mean_step(p, n1, p->count, N2 / 2);
+        fprintf(stderr, "   grow %d: %zu + %d spheres; step ratio %.3f, %.3f\n", grow, n1, N2,
                 r0, r1);
         if (grow) ASSERT_GE(r0, 0.8);
         else ASSERT_LE(r0, 0.3);

@@ -43,6 +43,7 @@
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
 #define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
 #define SPLIT_DARTS_SOLID 2    /* (solids: their darts cost more, splitting sooner pays) */
+#define SPLIT_DARTS_LEVEL0 8   /* (spheres, level 0: a level-0 parent costs about 14 darts) */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
@@ -1552,7 +1553,9 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
         }
         level_darts += used;
         if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
-            level_darts >= (s->solid ? SPLIT_DARTS_SOLID : SPLIT_DARTS) * s->ncells) {
+            level_darts >= (s->solid         ? SPLIT_DARTS_SOLID
+                            : s->level == 0 ? SPLIT_DARTS_LEVEL0
+                                            : SPLIT_DARTS) * s->ncells) {
             level_darts = 0;
             if (s->level >= s->max_level) {
                 /* cells this small are below the numbers' resolution: what
