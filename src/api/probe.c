@@ -55,7 +55,7 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     }
     if (pid == 0) {
         close(fds[0]);
-        signal(SIGPIPE, SIG_DFL);
+        vp_subproc_child_signals();
         /* the child reports through the pipe only: glibc's and OpenVDB's
          * own messages on a crash would make a second error line */
         int devnull = open("/dev/null", O_WRONLY);

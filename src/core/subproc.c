@@ -1,6 +1,8 @@
 /* See subproc.h. */
 #include "core/subproc.h"
 
+#include <signal.h>
+
 #include <dirent.h>
 #include <errno.h>
 #include <poll.h>
@@ -120,4 +122,9 @@ double vp_subproc_timeout(const char *env, double base, double per_mb, size_t fi
         if (end && *end == '\0' && t > 0) return t;
     }
     return base + per_mb * (double)file_bytes / 1e6;
+}
+
+void vp_subproc_child_signals(void) {
+    const int sigs[] = {SIGPIPE, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) signal(sigs[i], SIG_DFL);
 }

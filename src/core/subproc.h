@@ -26,6 +26,11 @@
 
 /* Monotonic clock, seconds. */
 double vp_subproc_now(void);
+/* In a forked child, before it runs a reader: the default action for
+ * SIGPIPE and for the crash signals (SEGV, BUS, FPE, ILL, ABRT), which the
+ * command line tool catches to clean up its outputs; the parent learns a
+ * reader's crash from the child's death by that signal. */
+void vp_subproc_child_signals(void);
 /* Writes all n bytes (retrying on EINTR): 0, or -1 on error. */
 int vp_subproc_write_all(int fd, const void *buf, size_t n);
 

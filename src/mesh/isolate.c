@@ -52,7 +52,7 @@ static void child_main(int fd, vp_mesh_import_fn fn, const void *arg)
         setrlimit(RLIMIT_AS, &rl);
     }
 #endif
-    signal(SIGPIPE, SIG_DFL);
+    vp_subproc_child_signals();
     char err[512] = "";
     vp_mesh *m = NULL;
     vp_result r = fn(arg, &m, err, sizeof err);
