@@ -724,6 +724,7 @@ typedef struct ball_list {
     const rsa *s;
     double m[3];          /* parent centre */
     double half;          /* parent half side */
+    double smin;          /* side of the smallest box the look-ahead tests */
     double uni_e2;        /* (rin (rmin + r))^2 when every radius is r, else 0 */
 } ball_list;
 
@@ -736,9 +737,14 @@ static int gather_visit(void *user, uint32_t j) {
         double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]);
         e2 = e * e;
     }
-    for (int k = 0; k < 3; k++) { /* distance from c to the parent box */
+    /* a ball that can hold no cube of side smin in the parent box holds
+     * none of the boxes tested (each holds such a cube): along an axis
+     * where c lies outside the box, the farthest corner of such a cube is
+     * at least t + smin from c, along one where c lies within it at least
+     * smin / 2 */
+    for (int k = 0; k < 3; k++) {
         double t = fabs(b->m[k] - c[k]) - b->half;
-        t = t > 0 ? t : 0.0;
+        t = t > 0 ? t + b->smin : 0.5 * b->smin;
         d2 += t * t;
     }
     if (d2 >= e2 || b->n == BALLS_MAX) return 0;
@@ -958,9 +964,13 @@ static void split_chunk_into(split_job *j, size_t i, split_out *out) {
         b->n = 0;
         memcpy(b->m, pm, sizeof b->m);
         b->half = a;
+        b->smin = ldexp(a, -depth);
         if (s->p->count) { /* balls (radius rin (rmin + r_j) <= rmin + r_j) meeting the parent */
             double blo[3] = {pm[0] - a, pm[1] - a, pm[2] - a}, bhi[3] = {pm[0] + a, pm[1] + a, pm[2] + a};
-            vp_sgrid_query_box(&s->g, blo, bhi, s->rmin, gather_visit, b);
+            /* a useful ball's centre lies closer than e - smin <= rmin + r_j - smin
+             * to the box along each axis (gather_visit) */
+            double reach = s->rmin - b->smin > 0 ? s->rmin - b->smin : 0.0;
+            vp_sgrid_query_box(&s->g, blo, bhi, reach, gather_visit, b);
         }
         ball_list_seal(b);
         for (int o = 0; o < 8; o++) {
