@@ -1067,7 +1067,14 @@ static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
      * by inspheres, which seldom hold much of a cell); every exclusion
      * radius rmin + r_j is in [emin, emax] */
     s->top[j.child_level] =
-        !from_box && !s->solid && s->p->count > 0
+        s->solid ? (vp_top_scale){0.0, 0.0}
+        : from_box
+            /* level 0: the first sphere this pass places in a cell becomes
+             * its top ball (in the serial loop), of exclusion radius
+             * rmin + r, r in [rmin, rmax] of the pass */
+            ? vp_top_scale_make(2.0 * s->rmin, s->rmin + s->rmax,
+                                0.5 * sqrt(3.0) * cell_side(s, 0), s->coord_eps)
+        : s->p->count > 0
             ? vp_top_scale_make(s->rmin + s->min_r, s->rmin + s->max_r,
                                 0.5 * sqrt(3.0) * cell_side(s, j.child_level), s->coord_eps)
             : (vp_top_scale){0.0, 0.0};
@@ -1525,6 +1532,16 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 break;
             }
             ok++;
+            if (s->level == 0 && s->top[0].u > 0) { /* a level-0 cell's first sphere: its top ball */
+                cell c = cell_load(s->cells, s->csize, t->cell);
+                if (c.top == VP_TOP_NONE) {
+                    double m[3], off[3];
+                    cell_center(s, &c, 0, m);
+                    for (int a3 = 0; a3 < 3; a3++) off[a3] = t->p[a3] - m[a3];
+                    c.top = vp_top_encode(&s->top[0], off);
+                    cell_store(s->cells, s->csize, t->cell, c);
+                }
+            }
             /* the new sphere covers its cell for every later candidate */
             if (diag <= s->rin * (s->rmin + cur_r)) hits[nhits++] = t->cell;
             rep->placed++;
