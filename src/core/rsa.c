@@ -256,6 +256,14 @@ static double clearance(const rsa *s, const double x[3], double reach, double st
     return q.best;
 }
 
+/* clearance() over the particles placed since `from` (the particles are
+ * inserted in the grid in index order: vp_sgrid_query_near_from). */
+static double clearance_since(const rsa *s, const double x[3], double reach, size_t from) {
+    clr_query q = {s, x, reach, reach, from, SIZE_MAX, SIZE_MAX};
+    vp_sgrid_query_near_from(&s->g, x, reach, (uint32_t)from, clr_visit, &q);
+    return q.best;
+}
+
 /* --- solids: exact tests ------------------------------------------------------
  * A solid's orientation is tested as written: the float quaternion,
  * renormalised in double (as vdbpack check reads it back). */
@@ -1491,7 +1499,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                         if (dx * dx + dy * dy + dz * dz < e * e) good = 0;
                     }
                 } else {
-                    good = clearance(s, t->p, cur_r, cur_r, s->n0, s->p->count) >= cur_r;
+                    good = clearance_since(s, t->p, cur_r, s->n0) >= cur_r;
                 }
             }
             if (!good) {
