@@ -384,23 +384,23 @@ static void test_rsa_count_near_saturation(void) {
 /* A refinement over the cell budget (vp_rsa_params.max_cells) is given
  * up part-way: the parents not yet split and the split ones that kept a
  * child go back to the current level, and plain darts go on. With this
- * seed the level-0 to level-1 split (46 656 parents at 34 285 spheres, 2
- * rounds) runs over 120 000 cells in its second round (88 644 + 38 243):
+ * seed the level-0 to level-1 split (46 656 parents at 36 251 spheres, 2
+ * rounds) runs over 100 000 cells in its second round (75 368 + 32 623):
  * the 13 888 parents not yet split and the first round's parents that
- * kept one of their 88 644 children go back. The packing must stay valid
+ * kept one of their 75 368 children go back. The packing must stay valid
  * (no overlap, inside, the same for any thread count) and dense: the
  * cells handed back still hold every admissible centre, so with 30 000
- * retries the pass reaches 0.328; handing back only the parents not yet
- * split (a mutation tried on 2026-11-23, when level 0 took 4 darts a cell
- * and the budget here was 140 000) loses the rest of the space and
- * stopped at 0.252. */
+ * retries the pass reaches the fraction printed (0.31 at least);
+ * handing back only the parents not yet split (a mutation tried on
+ * 2026-11-23, when level 0 took 4 darts a cell and the budget here was
+ * 140 000) loses the rest of the space and stopped at 0.252. */
 static void test_rsa_cell_budget(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps;
     vp_rsa_params rp;
     one_pass(&ps, &rp, 0.012, 0, 21);
     ps.retries = 30000;
-    rp.max_cells = 120000;
+    rp.max_cells = 100000;
     vp_particles *a = NULL, *b = NULL;
     vp_rsa_report rep;
     vp_context_set_threads(ctx, 1);

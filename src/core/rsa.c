@@ -43,7 +43,7 @@
 #define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
 #define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
 #define SPLIT_DARTS_SOLID 2    /* (solids: their darts cost more, splitting sooner pays) */
-#define SPLIT_DARTS_LEVEL0 8   /* (spheres, level 0: a level-0 parent costs about 14 darts) */
+#define SPLIT_DARTS_LEVEL0 12  /* (spheres, level 0: a level-0 parent costs about 14 darts) */
 #define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
 #define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
 
