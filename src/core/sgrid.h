@@ -135,28 +135,6 @@ static inline int vp_sgrid_query(const vp_sgrid *g, const double p[3], double re
     return vp_sgrid_query_box(g, p, p, reach, fn, user);
 }
 
-static inline int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach,
-                                      vp_sgrid_visit fn, void *user) {
-    for (int l = 0; l < g->nlevels; l++) {
-        const vp_sgrid_level *L = &g->lev[l];
-        int64_t a[3], b[3], c[3];
-        if (!vp_sgrid_level_range(g, L, p, p, reach, a, b)) continue;
-        for (int k = 0; k < 3; k++) c[k] = vp_sgrid_cell_coord(L, p[k], g->origin[k], k);
-        size_t own = (size_t)((c[2] * L->dims[1] + c[1]) * L->dims[0] + c[0]);
-        for (uint32_t j = L->head[own]; j != VP_SGRID_NONE; j = g->next[j])
-            if (fn(user, j)) return 1;
-        for (int64_t z = a[2]; z <= b[2]; z++)
-            for (int64_t y = a[1]; y <= b[1]; y++) {
-                size_t row = (size_t)((z * L->dims[1] + y) * L->dims[0]);
-                for (int64_t x = a[0]; x <= b[0]; x++) {
-                    if (row + (size_t)x == own) continue;
-                    for (uint32_t j = L->head[row + (size_t)x]; j != VP_SGRID_NONE; j = g->next[j])
-                        if (fn(user, j)) return 1;
-                }
-            }
-    }
-    return 0;
-}
 /* vp_sgrid_query_near over the particles of index >= from only, for a
  * grid whose particles were inserted in increasing index order (each
  * cell's list then holds them in decreasing order, vp_sgrid_insert
@@ -184,5 +162,10 @@ static inline int vp_sgrid_query_near_from(const vp_sgrid *g, const double p[3],
             }
     }
     return 0;
+}
+
+static inline int vp_sgrid_query_near(const vp_sgrid *g, const double p[3], double reach,
+                                      vp_sgrid_visit fn, void *user) {
+    return vp_sgrid_query_near_from(g, p, reach, 0, fn, user);
 }
 #endif
