@@ -49,16 +49,21 @@ same 1 "$T" --method rsa --shape cube --overlap bbox --radius 0.1 --count 300
 same 1 sphere:1 --method relax --radius uniform:0.5:1 --count 2000 --target-fraction 0.55
 same 1 "$T" --method relax --radius 0.1 --count 500
 # the split's ball scan four at a time (AVX2, where the processor has it)
-# and one at a time (VDBPACK_NO_SIMD=1) decide alike: the same file, in
-# cases that split several times (count near saturation, maximal, a
-# lognormal law, a mesh container with fit center)
+# and one at a time (VDBPACK_NO_SIMD=1) decide alike, and the top balls
+# (VDBPACK_NO_TOP_BALLS=1 turns them off) only settle darts that fail: the
+# same file, in cases that split several times (count near saturation,
+# maximal, a lognormal law, a mesh container with fit center)
 simd() { # ARGS...
   run s1 2 "$@"
   rm -rf s2; mkdir s2
   (cd s2 && VDBPACK_NO_SIMD=1 "$VDBPACK" pack "$@" --threads 2 -o p.vdb -q) || die "pack $* (scalar)"
   cmp -s s1/p.vdb s2/p.vdb || die "'$*': the vector and scalar scans give different files"
+  # the top balls only settle darts that fail anyway: the same file without them
+  rm -rf s3; mkdir s3
+  (cd s3 && VDBPACK_NO_TOP_BALLS=1 "$VDBPACK" pack "$@" --threads 2 -o p.vdb -q) || die "pack $* (no top balls)"
+  cmp -s s1/p.vdb s3/p.vdb || die "'$*': the packing differs without top balls"
   n=$((n + 1))
-  echo "  ok: one file for the vector and the scalar ball scan: $*"
+  echo "  ok: one file for the vector and the scalar ball scan, and without top balls: $*"
 }
 simd box:1,1,1 --method rsa --radius 0.01 --count 70000
 simd box:1,1,1 --method rsa --radius 0.012 --count max

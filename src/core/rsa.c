@@ -120,6 +120,8 @@ typedef struct rsa {
     int bbox;             /* solids: overlap by axis-aligned boxes */
     int cube;             /* cubes with the exact test: most pairs are decided
                              by one centre's distance to the other cube */
+    int no_top;           /* VDBPACK_NO_TOP_BALLS=1: darts never settled by a top ball
+                             (the same packing, more slowly: tests compare) */
     double coord_eps;     /* rounding of a difference of two coordinates (64 ulp
                              of the container's largest coordinate) */
     double bb_lo[3], bb_hi[3]; /* the unit solid's box (bbox mode) */
@@ -1189,7 +1191,7 @@ typedef struct dart_job {
  * the cell's top ball. */
 static int dart_settled(const rsa *s, const cell *c, unsigned sub, const double p[3]) {
     if (!(c->mask >> sub & 1)) return 1;
-    if (c->top == VP_TOP_NONE) return 0;
+    if (c->top == VP_TOP_NONE || s->no_top) return 0;
     double m[3];
     cell_center(s, c, s->level, m);
     return vp_top_holds(&s->top[s->level], c->top, m, p);
@@ -1752,6 +1754,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     rsa s;
     memset(&s, 0, sizeof s);
     s.min_r = HUGE_VAL;
+    const char *no_top = getenv("VDBPACK_NO_TOP_BALLS");
+    s.no_top = no_top && *no_top && strcmp(no_top, "0") != 0;
     s.ctx = ctx;
     s.c = c;
     s.fit = params->fit;
