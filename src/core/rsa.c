@@ -120,6 +120,8 @@ typedef struct rsa {
     int bbox;             /* solids: overlap by axis-aligned boxes */
     int cube;             /* cubes with the exact test: most pairs are decided
                              by one centre's distance to the other cube */
+    int avx2;             /* the look-ahead's ball scan four at a time (AVX2; not with
+                             VDBPACK_NO_SIMD=1: the same packing, tests compare) */
     int no_top;           /* VDBPACK_NO_TOP_BALLS=1: darts never settled by a top ball
                              (the same packing, more slowly: tests compare) */
     double coord_eps;     /* rounding of a difference of two coordinates (64 ulp
@@ -812,8 +814,6 @@ __attribute__((target("avx2"))) static size_t ball_scan_avx2(const ball_list *b,
 }
 #endif
 
-static int g_avx2 = -1; /* -1: not asked yet */
-
 /* 1 if one ball of the list holds the whole box (centre m, half side h).
  * The ball that does is moved to the front: neighbouring boxes are mostly
  * held by the same ball, tried first next time. */
@@ -824,7 +824,7 @@ static int ball_holds(ball_list *b, const double m[3], double h) {
     if (n == 1) return 0;
     size_t i;
 #ifdef VP_HAVE_AVX2_SCAN
-    i = g_avx2 > 0 && n > 4 ? ball_scan_avx2(b, m, h) : ball_scan(b, m, h);
+    i = b->s->avx2 && n > 4 ? ball_scan_avx2(b, m, h) : ball_scan(b, m, h);
 #else
     i = ball_scan(b, m, h);
 #endif
@@ -1060,14 +1060,6 @@ static vp_result unsplit(rsa *s, size_t np, unsigned char *out, size_t nout, siz
 /* Replaces the active cells by the kept children of every active cell (or,
  * with from_box, by the kept level-0 cells of the whole box). */
 static vp_result split_cells(rsa *s, int from_box, const int64_t dims[3]) {
-    if (g_avx2 < 0) { /* VDBPACK_NO_SIMD=1: the scalar scan (the same packing; tests compare) */
-        const char *no = getenv("VDBPACK_NO_SIMD");
-        int avx2 = 0;
-#ifdef VP_HAVE_AVX2_SCAN
-        avx2 = __builtin_cpu_supports("avx2");
-#endif
-        g_avx2 = avx2 && !(no && *no && strcmp(no, "0") != 0);
-    }
     size_t nchunks = SPLIT_CHUNKS;
     split_job j;
     memset(&j, 0, sizeof j);
@@ -1633,6 +1625,12 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     return VP_OK;
 }
 
+/* An environment variable set to anything but "" or "0". */
+static int env_flag(const char *name) {
+    const char *v = getenv(name);
+    return v && *v && strcmp(v, "0") != 0;
+}
+
 vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
                       vp_particles **out, vp_rsa_report *report) {
     double t0 = vp_seconds();
@@ -1754,8 +1752,10 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     rsa s;
     memset(&s, 0, sizeof s);
     s.min_r = HUGE_VAL;
-    const char *no_top = getenv("VDBPACK_NO_TOP_BALLS");
-    s.no_top = no_top && *no_top && strcmp(no_top, "0") != 0;
+    s.no_top = env_flag("VDBPACK_NO_TOP_BALLS");
+#ifdef VP_HAVE_AVX2_SCAN
+    s.avx2 = __builtin_cpu_supports("avx2") && !env_flag("VDBPACK_NO_SIMD");
+#endif
     s.ctx = ctx;
     s.c = c;
     s.fit = params->fit;
