@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Peak memory per particle of a lattice fill beyond the level set.
  * Loads a mesh container (level set), notes the resident memory (VmRSS),
  * packs about N spheres on FCC and writes them, then reads the peak (VmHWM):

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # FCC spheres wholly inside a sphere container of radius 20 r and 40 r: the
 # packing fraction and time of vdbpack's placement search, against the best of
 # N random offsets and rotations of the same lattice (bench/ref_fcc_sphere.py,

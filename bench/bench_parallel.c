@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Cost of one vp_parallel_for call (src/core/parallel.c: a pool of
  * workers kept between calls) against the reference it replaced, timed in
  * the same run: threads created and joined at every call. The random

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Shared helpers of bench_rsa.c and bench_relax.c: each case runs in a
  * forked child, so its peak resident memory (VmHWM) is its own. */
 #ifndef VDBPACK_BENCH_RANDOM_COMMON_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Relaxation figures of issue 3, each case in its own process:
  *  1. 1e5 x SCALE spheres of one radius in a unit box, target fraction F;
  *  2. spheres of one radius in a sphere container of radius 20 r;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Preview-render figures of issue 6, each case in its own process (peak
  * memory):
  *  1. about 1M spheres (FCC in a unit box, vp_pack_lattice) at 1920x1080, default settings (4 AO rays, shadows): seconds,

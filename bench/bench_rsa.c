@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* RSA figures of issue 3, each case in its own process (peak memory):
  *  1. one radius 0.0043 in a unit box, count 1e6 x SCALE, default retries:
  *     placed, stop reason, accepted particles per second, fraction;

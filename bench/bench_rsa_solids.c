@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* RSA figures of issue 5, each case in its own process:
  *  1. random-orientation cubes in a unit box, 100k x SCALE asked for
  *     (radius for a fraction of 0.25 once all are placed): accepted

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # vdbpack's lattice fill against OpenVDB's own route to N points inside a mesh
 # (vdb_tool: mesh -> level set -> fog -> scatter -> points; its points overlap
 # freely), on the same mesh and voxel size, for N ~ 1M and 10M, in one run.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # vdbpack's random packers against Yade (Debian package `yade`), the one peer
 # issue 3 names that Debian ships, timed in the same run on the same problem:
 #  1. RSA, one radius, unit box: N = 1e6 x SCALE spheres asked for, radius

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 // A model, not vdbpack's code: how much work (darts, cells split, children
 // made, ball tests) random sequential addition in a periodic unit box
 // needs to reach N spheres at a packing fraction F, with its active cells

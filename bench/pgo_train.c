@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Training workload for the profile-guided build (VP_PGO in CMakeLists.txt):
  * run once during the build by a copy of the C library whose rsa.c is
  * instrumented; its branch and call counts then steer the optimisation of

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Reference for bench_lattice_sphere.sh, independent of vdbpack: FCC spheres
 of radius r on a lattice with a random offset and random rotation, count the
 centres with |x| <= R - r (sphere wholly inside sphere:R), best of N trials.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* libFuzzer target: mesh loading. The first byte picks the format Assimp is
  * told to expect (mostly OBJ; PLY, STL, OFF), the rest is the file. The mesh
  * is read in-process (VP_FUZZING: no child process, so the sanitizers see

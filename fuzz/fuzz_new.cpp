@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Global operator new/delete for the fuzz targets: plain malloc/free, so
 // that a failed allocation throws std::bad_alloc as it does in vdbpack
 // itself. ASan's own operator new aborts the process instead ("allocator is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* libFuzzer target: `vdbpack pack` option parsing. The input is split into
  * arguments at NUL and newline bytes (at most 48), after "vdbpack pack";
  * parsing must end with 0 or an exit status and exactly one message, never

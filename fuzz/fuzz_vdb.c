@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* libFuzzer target: every path that opens a .vdb: the container loader
  * (level-set choice, grid-type checks, interior band), `vdbpack info`'s
  * description and `vdbpack check`'s points reader. The input is written to

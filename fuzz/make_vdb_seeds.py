@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Writes the seed corpus of fuzz_vdb into the directory given: small .vdb
 files of every kind the loaders meet (a level set, half-float storage, an
 unnamed grid, a fog volume, a vector grid, two grids of one name, no grids).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Sourced by the set-up scripts: apt_install LABEL PACKAGE... installs the
 # Debian packages that are not installed yet (as root, or through sudo).
 apt_install() {

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The CI's hardening stages (issue 4), after the main test suite
 # (scripts/test.sh, which also does the set-up and the normal build):
 #   1. a small end-to-end run under valgrind memcheck: zero errors, no

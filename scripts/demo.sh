@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The main job: set up, build, and pack the default sample container.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Builds the libFuzzer targets (clang, ASan + UBSan) into ./build-fuzz and
 # runs each for FUZZ_SECONDS (default 30) on its seed corpus. Findings
 # (crash-*, leak-*, timeout-*, oom-*) land in build-fuzz/findings/TARGET and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Run by the build (VP_PGO in CMakeLists.txt): removes the profile (.gcda)
 # of an earlier run, runs the instrumented training program TRAIN, checks
 # that it wrote the profile the real library's build reads (PGO/rsa.c.gcda,

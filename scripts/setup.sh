@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs the Debian 12 packages vdbpack needs (only those missing) and
 # builds it into ./build. Safe to run again: it only does what is missing.
 set -euo pipefail

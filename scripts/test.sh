@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Set up, build, and run the whole test suite: the CTest suite on the normal
 # build, then the hardening stages (scripts/ci_hardening.sh: valgrind,
 # fuzzing, the CTest suite again under ASan + UBSan). VP_SKIP_HARDENING=1

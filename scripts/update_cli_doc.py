@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Replaces the fenced help text under each "## vdbpack CMD" heading of
 docs/cli.md with the current `vdbpack CMD --help` output.
 Usage: python3 scripts/update_cli_doc.py [build/vdbpack]

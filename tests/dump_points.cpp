@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An independent reader of OpenVDB points for the export tests: OpenVDB's
 // own API only (no vdbpack code). Prints one line per point of the first
 // PointDataGrid (preferring "points"):

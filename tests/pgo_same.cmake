@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Test pgo_same_packings (tests/CMakeLists.txt): runs PROG, the training
 # program linked to the profile-optimised library, and fails unless it
 # prints what the instrumented training run wrote to WANT.

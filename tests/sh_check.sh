@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # `vdbpack check`: every packer's output passes it (lattice spheres and each
 # solid, 16-bit fixed-point and float P, analytic and mesh containers), and
 # violations made by OpenVDB's own vdb_ax (not vdbpack) are caught: pscale

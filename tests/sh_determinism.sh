@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Determinism (issue 4): for every packer, the same inputs and seed give a
 # byte-identical .vdb across runs and across --threads 1 and --threads 2
 # (the file holds no timestamp; --threads is left out of the recorded

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # docs/cli.md and README.md against `--help`: every option that a command's
 # --help lists is documented in docs/cli.md (in that command's section), and
 # every option docs/cli.md names for a command is one its --help lists, so

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Export formats (issue 6): PLY and CSV from `pack -o` and `convert`, read
 # back by a parser that is not vdbpack's (tests/py/export_check.py: the PLY
 # header and records parsed there, the CSV by numpy) and compared with the

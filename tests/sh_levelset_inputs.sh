@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # .vdb containers of the awkward kinds a pipeline hands over, made here with
 # pyopenvdb (not vdbpack): a level set stored as half floats with an empty
 # grid name; a file with a fog volume before the level set (the level set is

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The random packers through the CLI (--method rsa, --method relax), read back
 # with OpenVDB's own tools only (vdb_ax rewrites P, vdb_tool extracts it,
 # numpy checks: tests/py/random_check.py), then with `vdbpack check`; and

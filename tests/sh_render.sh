@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # `vdbpack render` and `vdbpack pack --preview` end to end. PNGs are read
 # back by a small independent reader (Python: zlib + struct, chunk CRCs
 # checked, filters undone); EXR contents are checked by test_render_exr

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # vdbpack on the shared third-party containers (../shared/containers):
 # clean closed meshes pack to about --count N with a sane packing fraction and
 # a level-set volume close to the mesh's own (computed here in numpy); broken

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # SIGINT and SIGTERM during a long pack: the run ends within a second or so,
 # exits 130 / 143 with one line on stderr, and leaves no file at all in the
 # output directory (no partial .vdb, no temporary, no --shape-out file).

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # vdbpack output read back ONLY with OpenVDB's own tools (vdb_print, vdb_ax,
 # vdb_tool) and Python/numpy (tests/py/vp_check.py); expected values are
 # computed independently (geometry, literature lattice fractions).

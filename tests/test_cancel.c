@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Cancellation through the progress callback (issue 4): for every packer,
  * the checker and the mesh loader, a callback that returns 0 after its k-th
  * call makes the running call return VP_ERR_CANCELLED with no output and a

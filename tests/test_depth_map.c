@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The coarse depth map of level-set containers (src/core/depth_map.c):
  * the block distance transform and sign rule on hand-made block grids, the
  * bound's promise checked against the level set's own samples on a real

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Export formats through the C API: PLY and CSV written and read back
  * (CSV positions exact, PLY positions float-exact, ids, pscale, orient,
  * groups, shape), the PLY also read by Assimp (a PLY reader that is not

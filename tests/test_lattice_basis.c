@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Unit tests of src/core/lattice_basis.c. For every (shape, lattice)
  * combination offered: the neighbours touch but do not overlap, and the
  * packing fraction computed from the basis equals the literature value.

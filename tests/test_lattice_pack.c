@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Lattice packer on exact analytic containers: counts where they are known,
  * no particle outside, no overlaps, count mode, thread independence,
  * refusals of impossible requests, and thin boxes (one layer packed; a

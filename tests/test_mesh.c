@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mesh input (src/mesh): Assimp import, welding, topology counts, errors. */
 #define _DEFAULT_SOURCE /* mkstemps */
 #include "mesh/isolate.h"
@@ -398,7 +399,7 @@ static uint32_t rng(void)
  * Assimp 5.2 loop forever: the isolated reader must end it with one line. */
 static void test_import_hang_is_an_error(void)
 {
-    if (!vp_mesh_import_is_isolated()) {
+    if (!vp_readers_isolated()) {
         fprintf(stderr, "   skipped: this build imports in-process (sanitizer build)\n");
         return;
     }
@@ -428,7 +429,7 @@ static void test_import_hang_is_an_error(void)
 
 static void test_garbage(void)
 {
-    if (!vp_mesh_import_is_isolated()) { /* Assimp hangs on some of these */
+    if (!vp_readers_isolated()) { /* Assimp hangs on some of these */
         fprintf(stderr, "   skipped: this build imports in-process (sanitizer build)\n");
         return;
     }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mesh-shaped particles (issue 5): the exact overlap test of two placed
  * meshes against references that share no code with it (the platonic
  * cube's separating-axis test for a cube mesh; dense point sampling with an

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Unit tests of src/core/parallel.c (vp_parallel_for over a pool of
  * workers kept between calls): every index runs exactly once, whatever
  * the thread count and however calls follow each other (back to back,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The random packers and the checker through the public API, on exact
  * analytic containers, verified here by brute force (every pair, every
  * particle against the analytic wall), never by the checker alone:

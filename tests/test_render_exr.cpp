@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Preview renders checked against geometry, through an independent reader:
 // vdbpack writes EXR with OpenEXR's C API (OpenEXRCore); this test reads it
 // back with OpenEXR's C++ API (Imf::InputFile), a different code path.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Random sequential addition of platonic solids (issue 5): packings with
  * random and fixed orientations have no overlaps (vdbpack's checker and an
  * independent point-sampling test) and stay inside the container (their

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Unit tests of src/core/rsa_top.h, the RSA packer's top-ball test:
  *  - sound: a point it says is in the ball is in the ball (exact centre,
  *    the smallest exclusion radius), for cells and balls of many scales,

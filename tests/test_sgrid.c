@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Unit tests of src/core/sgrid.c: vp_sgrid_query_near (own cell first)
  * visits exactly the particles that vp_sgrid_query visits, each once, on
  * grids of one and of several levels, for query points inside and

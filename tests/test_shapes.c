@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Unit tests of src/core/shape.c: names, the unit polyhedra (closed-form
  * volumes and inradii, topology, orientation), the separating-axis test
  * against an independent brute-force overlap check, and the cube's quick

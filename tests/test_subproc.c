@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Unit tests of src/core/subproc.c: the deadline of a child reader.
  * - a child blocked for ever (a pipe nobody writes: all threads asleep)
  *   ends at its deadline;
@@ -9,7 +10,7 @@
  *   and gets within the 10 s the watch allows. A plain wall-clock
  *   deadline fails this case. */
 #define _DEFAULT_SOURCE /* nice */
-#include "core/subproc.h"
+#include "os/subproc.h"
 #include "vp_test.h"
 
 #include <signal.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Tests of the C++ OpenVDB bridge (src/vdb) through its extern "C" API. */
 #include "vp_test.h"
 #include "vdb/vdb_bridge.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Tiny assertion macros for the C unit tests (libuv style: print both
  * values and the location, then fail the test). */
 #ifndef VP_TEST_H
@@ -73,6 +74,19 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
     }
     if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) exit(1);
 }
+#endif
+
+/* A library call that must succeed: on failure prints the call, the
+ * result's name and the context's message. */
+#ifdef VDBPACK_VDBPACK_H
+#define ASSERT_OK(ctx, call) do { vp_result r_ = (call); if (r_ != VP_OK) { \
+    fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
+    vp_result_name(r_), vp_context_message(ctx)); exit(1); } } while (0)
+/* A library call that must fail with result `want`. */
+#define ASSERT_FAILS(ctx, want, call) do { vp_result r_ = (call); if (r_ != (want)) { \
+    fprintf(stderr, "%s:%d: %s gave %s, not %s (message: %s)\n", __FILE__, __LINE__, \
+    #call, vp_result_name(r_), vp_result_name(want), vp_context_message(ctx)); exit(1); } \
+    } while (0)
 #endif
 
 #define RUN_TEST(fn) do { fprintf(stderr, "-- %s\n", #fn); fn(); } while (0)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Generates vdbpack's own sample containers (see README.md in this folder).
 
 Meshes need only python3 + numpy; the level sets need pyopenvdb

@@ -1,12 +1,18 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Independent verification of a packing (part of vdbpack.h): overlaps,
  * particles crossing the wall, packing fraction and contacts, recomputed
  * from positions, radii, orientations and the shape alone. */
+/* Self-contained: included first, it brings in vdbpack.h, which includes
+ * this header where the declarations it needs are in place. */
+#include "vdbpack/vdbpack.h"
+
 #ifndef VDBPACK_CHECK_H
 #define VDBPACK_CHECK_H
 
-#ifndef VDBPACK_VDBPACK_H
-#error "include vdbpack/vdbpack.h"
+#ifdef __cplusplus
+extern "C" {
 #endif
+
 
 typedef struct vp_check_params {
     vp_fit fit;
@@ -25,7 +31,7 @@ typedef struct vp_check_params {
                                  do not overlap); default
                                  VP_POSITION_ERROR_LIMIT (1e-3) */
 } vp_check_params;
-void vp_check_params_init(vp_check_params *p);
+VP_API void vp_check_params_init(vp_check_params *p);
 
 typedef struct vp_check_report {
     size_t count;
@@ -48,6 +54,9 @@ typedef struct vp_check_report {
 
 /* Returns VP_OK when the check ran (violations are in the report, not in the
  * result: overlapping_pairs, outside, imprecise). */
-vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_particles *p,
-                             const vp_check_params *params, vp_check_report *report);
+VP_API vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_particles *p,
+                                    const vp_check_params *params, vp_check_report *report);
+#ifdef __cplusplus
+}
+#endif
 #endif

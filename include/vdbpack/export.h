@@ -1,8 +1,13 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Particle sets in formats other than OpenVDB points: binary PLY and CSV
  * (written and read back), and OBJ (every particle's full geometry, write
  * only). The formats, their property names and limits: docs/export.md.
  * Part of vdbpack.h; conventions as there (vp_result + context message,
  * ownership stated at each function, every write atomic). */
+/* Self-contained: included first, it brings in vdbpack.h, which includes
+ * this header where the declarations it needs are in place. */
+#include "vdbpack/vdbpack.h"
+
 #ifndef VDBPACK_EXPORT_H
 #define VDBPACK_EXPORT_H
 
@@ -19,12 +24,12 @@ typedef enum vp_format {
 } vp_format;
 
 /* "vdb", "ply", "csv", "obj"; NULL for VP_FORMAT_UNKNOWN or an invalid value. */
-const char *vp_format_name(vp_format f);
+VP_API const char *vp_format_name(vp_format f);
 /* Parses a format name (as vp_format_name gives); returns 0 on success. */
-int vp_format_parse(const char *name, vp_format *out);
+VP_API int vp_format_parse(const char *name, vp_format *out);
 /* The format a path's extension names (case-insensitive: .vdb, .ply, .csv,
  * .obj), else VP_FORMAT_UNKNOWN. path may be NULL. */
-vp_format vp_format_from_path(const char *path);
+VP_API vp_format vp_format_from_path(const char *path);
 
 typedef struct vp_export_params {
     vp_format format;          /* VP_FORMAT_UNKNOWN (default): from the path's extension */
@@ -34,22 +39,22 @@ typedef struct vp_export_params {
                                   n (1..16, default 2: 42 vertices, 80 triangles) */
 } vp_export_params;
 /* Fills defaults (vp_write_params_init for vdb). */
-void vp_export_params_init(vp_export_params *p);
+VP_API void vp_export_params_init(vp_export_params *p);
 
 /* Writes p to path in params->format (or by extension) atomically: on any
  * failure nothing is left at path (an existing file there is untouched).
  * p is only read; params NULL means defaults. Unknown formats give
  * VP_ERR_INVALID_ARGUMENT. */
-vp_result vp_export(vp_context *ctx, const char *path, const vp_particles *p,
-                    const vp_export_params *params);
+VP_API vp_result vp_export(vp_context *ctx, const char *path, const vp_particles *p,
+                           const vp_export_params *params);
 
 /* Estimated size in bytes of p written in format (exact layout for PLY,
  * typical text widths for CSV and OBJ); for the CLI's size warning. */
-double vp_export_estimate_bytes(const vp_particles *p, vp_format format,
-                                const vp_export_params *params);
+VP_API double vp_export_estimate_bytes(const vp_particles *p, vp_format format,
+                                       const vp_export_params *params);
 /* Vertices and faces one particle of shape s has in an OBJ export with
  * sphere_subdivisions n (0 = default). Returns 0, or -1 for a bad shape. */
-int vp_export_obj_counts(vp_shape s, int sphere_subdivisions, int *verts, int *faces);
+VP_API int vp_export_obj_counts(vp_shape s, int sphere_subdivisions, int *verts, int *faces);
 
 /* Reads a particle set from a .vdb (its points grid, as vp_read_points), or
  * a .ply or .csv as vdbpack writes them; format VP_FORMAT_UNKNOWN = by
@@ -62,8 +67,8 @@ int vp_export_obj_counts(vp_shape s, int sphere_subdivisions, int *verts, int *f
  * must set the shape; *needs_shape (if not NULL) says so: 1 for such a
  * file, else 0.
  * *out is owned by the caller (vp_particles_destroy). */
-vp_result vp_import(vp_context *ctx, const char *path, vp_format format, vp_particles **out,
-                    int *needs_shape);
+VP_API vp_result vp_import(vp_context *ctx, const char *path, vp_format format, vp_particles **out,
+                           int *needs_shape);
 
 #ifdef __cplusplus
 }

@@ -1,15 +1,21 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The relaxation packer (part of vdbpack.h), after He, Ekere & Cai (1999):
  * random centres with overlaps, then overlap relaxation (each overlapped
  * sphere moves to the mean of its non-overlapping positions against its
  * neighbours and the wall) alternating with a small radius relaxation
  * (shrinking only what still overlaps) until the largest overlap is at most
  * `tolerance` of r_i + r_j. */
+/* Self-contained: included first, it brings in vdbpack.h, which includes
+ * this header where the declarations it needs are in place. */
+#include "vdbpack/vdbpack.h"
+
 #ifndef VDBPACK_RELAX_H
 #define VDBPACK_RELAX_H
 
-#ifndef VDBPACK_VDBPACK_H
-#error "include vdbpack/vdbpack.h"
+#ifdef __cplusplus
+extern "C" {
 #endif
+
 
 typedef struct vp_relax_params {
     vp_fit fit;
@@ -23,7 +29,7 @@ typedef struct vp_relax_params {
     int max_sweeps;          /* 0 = automatic */
     uint64_t seed;
 } vp_relax_params;
-void vp_relax_params_init(vp_relax_params *p);
+VP_API void vp_relax_params_init(vp_relax_params *p);
 
 typedef struct vp_relax_report {
     size_t count;
@@ -37,6 +43,13 @@ typedef struct vp_relax_report {
 
 /* *out is owned by the caller; report may be NULL. Deterministic in seed
  * whatever the thread count. */
-vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_params *params,
-                        vp_particles **out, vp_relax_report *report);
+VP_API vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_params *params,
+                               vp_particles **out, vp_relax_report *report);
+/* The container's load parameters for this job (as
+ * vp_container_params_for_lattice in vdbpack.h). */
+VP_API void vp_container_params_for_relax(vp_container_params *cp,
+                                          const vp_relax_params *params);
+#ifdef __cplusplus
+}
+#endif
 #endif

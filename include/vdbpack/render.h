@@ -1,7 +1,12 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Preview renders of a particle set (part of the public API, included from
  * vdbpack.h): a small ray tracer over spheres and the platonic solids with
  * their orientations, and image writers for OpenEXR and PNG.
  * See docs/render.md for what is drawn and what each channel holds. */
+/* Self-contained: included first, it brings in vdbpack.h, which includes
+ * this header where the declarations it needs are in place. */
+#include "vdbpack/vdbpack.h"
+
 #ifndef VDBPACK_RENDER_H
 #define VDBPACK_RENDER_H
 
@@ -51,7 +56,7 @@ typedef struct vp_render_params {
                                  0 = none, at most 64 */
     int shadows;              /* key-light shadow rays; default 1 */
 } vp_render_params;
-void vp_render_params_init(vp_render_params *p);
+VP_API void vp_render_params_init(vp_render_params *p);
 
 /* A rendered image, row 0 at the top. All arrays are owned by the image
  * (vp_image_destroy) and hold width * height pixels. */
@@ -73,22 +78,22 @@ typedef struct vp_image {
  * VP_ERR_OUT_OF_MEMORY when the image and the acceleration grid would not
  * fit in the context's memory limit. Reports progress and may be
  * cancelled. */
-vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_params *params,
-                    vp_image **out);
-void vp_image_destroy(vp_image *img);
+VP_API vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_params *params,
+                           vp_image **out);
+VP_API void vp_image_destroy(vp_image *img);
 
 /* Bytes vp_render needs beyond the particle set and the image, for a set of
  * `count` particles each overlapping `refs_per_particle` grid cells on
  * average (about 8 in dense packings): for estimates and the benchmark. */
-uint64_t vp_render_grid_bytes(size_t count, double refs_per_particle);
+VP_API uint64_t vp_render_grid_bytes(size_t count, double refs_per_particle);
 
 /* Writes img to path, atomically: OpenEXR (".exr": scanlines, ZIP, channels
  * R, G, B, A, Z as 32-bit float and id as 32-bit uint) or PNG (".png": 8-bit
  * sRGB RGBA, straight alpha), chosen by the extension (case-insensitive);
  * other extensions fail with VP_ERR_INVALID_ARGUMENT. */
-vp_result vp_image_write(vp_context *ctx, const vp_image *img, const char *path);
-vp_result vp_image_write_exr(vp_context *ctx, const vp_image *img, const char *path);
-vp_result vp_image_write_png(vp_context *ctx, const vp_image *img, const char *path);
+VP_API vp_result vp_image_write(vp_context *ctx, const vp_image *img, const char *path);
+VP_API vp_result vp_image_write_exr(vp_context *ctx, const vp_image *img, const char *path);
+VP_API vp_result vp_image_write_png(vp_context *ctx, const vp_image *img, const char *path);
 
 #ifdef __cplusplus
 }

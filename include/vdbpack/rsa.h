@@ -1,13 +1,19 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Random sequential addition of spheres (part of vdbpack.h): one or more
  * passes, each a count (or "maximal": until no room is left), a radius
  * distribution, a retry limit and an optional grow step. Pass k's particles
  * form group "passk" (or the pass's name). */
+/* Self-contained: included first, it brings in vdbpack.h, which includes
+ * this header where the declarations it needs are in place. */
+#include "vdbpack/vdbpack.h"
+
 #ifndef VDBPACK_RSA_H
 #define VDBPACK_RSA_H
 
-#ifndef VDBPACK_VDBPACK_H
-#error "include vdbpack/vdbpack.h"
+#ifdef __cplusplus
+extern "C" {
 #endif
+
 
 #define VP_RSA_DEFAULT_RETRIES 5000
 
@@ -22,7 +28,7 @@ typedef struct vp_rsa_pass {
                               touches a neighbour (or the wall with fit inside) */
     char name[VP_GROUP_NAME_MAX]; /* group name; "" = "passK" (K from 1) */
 } vp_rsa_pass;
-void vp_rsa_pass_init(vp_rsa_pass *p);
+VP_API void vp_rsa_pass_init(vp_rsa_pass *p);
 
 typedef enum vp_orient_mode {
     VP_ORIENT_RANDOM = 0, /* uniform random rotations (Marsaglia), per particle */
@@ -51,7 +57,7 @@ typedef struct vp_rsa_params {
                                   solids); 0 = automatic, 32 x the
                                   expected count of the pass (at least 65536) */
 } vp_rsa_params;
-void vp_rsa_params_init(vp_rsa_params *p);
+VP_API void vp_rsa_params_init(vp_rsa_params *p);
 
 typedef enum vp_rsa_stop {
     VP_RSA_STOP_COUNT = 0, /* placed every particle asked for */
@@ -84,6 +90,13 @@ typedef struct vp_rsa_report {
 /* Fills container c; *out (owned by the caller) has radii, groups and,
  * for solids, one orient per particle. Deterministic in params->seed whatever the thread count. report
  * may be NULL. */
-vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
-                      vp_particles **out, vp_rsa_report *report);
+VP_API vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
+                             vp_particles **out, vp_rsa_report *report);
+/* The container's load parameters for this job (as
+ * vp_container_params_for_lattice in vdbpack.h): the largest radius of the
+ * passes sizes the level set's interior band. */
+VP_API void vp_container_params_for_rsa(vp_container_params *cp, const vp_rsa_params *params);
+#ifdef __cplusplus
+}
+#endif
 #endif

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* vdbpack public C API: fill a closed container with non-overlapping
  * particles and write them as OpenVDB points.
  *
@@ -19,11 +20,39 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "vdbpack/version.h"
+
+/* VP_API marks the library's exported functions: the shared library is
+ * built with hidden visibility, so only what is declared with it in these
+ * headers is visible to programs. Define VP_STATIC when linking the static
+ * library on Windows. */
+#if defined(_WIN32) && !defined(VP_STATIC)
+#ifdef VP_BUILDING_LIBRARY
+#define VP_API __declspec(dllexport)
+#else
+#define VP_API __declspec(dllimport)
+#endif
+#elif defined(__GNUC__) || defined(__clang__)
+#define VP_API __attribute__((visibility("default")))
+#else
+#define VP_API
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define VP_VERSION_STRING "0.1.0"
+/* The library's version as "MAJOR.MINOR.PATCH" (VP_VERSION_STRING of the
+ * library that was loaded, which may be newer than the headers a program
+ * was compiled with). Static; never NULL. */
+VP_API const char *vp_version(void);
+/* The version as one number, VP_VERSION_NUMBER of the loaded library. */
+VP_API int vp_version_number(void);
+/* 1 when third-party file readers (Assimp for meshes, OpenVDB for .vdb
+ * files) run first in a forked child process, so that their crashes and
+ * hangs on a bad file become errors (the product's builds); 0 in fuzzing
+ * and AddressSanitizer builds, which read in-process. */
+VP_API int vp_readers_isolated(void);
 
 /* ------------------------------------------------------------------ */
 /* Results and context                                                 */
@@ -43,7 +72,7 @@ typedef enum vp_result {
 } vp_result;
 
 /* Static name of a result ("VP_ERR_IO"); never NULL. */
-const char *vp_result_name(vp_result r);
+VP_API const char *vp_result_name(vp_result r);
 
 typedef struct vp_context vp_context;
 
@@ -52,34 +81,34 @@ typedef struct vp_context vp_context;
 typedef int (*vp_progress_fn)(void *user, double fraction, const char *stage);
 
 /* Creates a context. *out is owned by the caller. */
-vp_result vp_context_create(vp_context **out);
-void vp_context_destroy(vp_context *ctx);
+VP_API vp_result vp_context_create(vp_context **out);
+VP_API void vp_context_destroy(vp_context *ctx);
 /* Message of the last failure on ctx ("" if none). Owned by ctx, valid
  * until the next call that takes ctx. */
-const char *vp_context_message(const vp_context *ctx);
+VP_API const char *vp_context_message(const vp_context *ctx);
 /* Worker threads for parallel stages; 0 (default) = all cores. */
-void vp_context_set_threads(vp_context *ctx, int threads);
-int vp_context_threads(const vp_context *ctx);
-void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user);
+VP_API void vp_context_set_threads(vp_context *ctx, int threads);
+VP_API int vp_context_threads(const vp_context *ctx);
+VP_API void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user);
 /* Async-signal-safe: removes the temporary files of every write still in
  * progress in this process (outputs are written to a temporary name and
  * renamed). For a signal handler that is about to _exit(); the targets of
  * finished writes are not touched. */
-void vp_remove_partial_outputs(void);
+VP_API void vp_remove_partial_outputs(void);
 /* The file that a write to path replaces, in out (outlen bytes): path
  * with its symbolic links followed, as the writers follow them. 1 when
  * that is an existing regular file; 0 when there is none or it is not a
  * regular file (a device or FIFO, which writers write through and never
  * replace), or the name does not fit. */
-int vp_output_file(const char *path, char *out, size_t outlen);
+VP_API int vp_output_file(const char *path, char *out, size_t outlen);
 /* Removes what a finished write to path left: the regular file it
  * replaced (links followed; the links stay), and nothing that is not a
  * regular file. For a job that fails after some of its outputs were
  * written. */
-void vp_remove_output(const char *path);
+VP_API void vp_remove_output(const char *path);
 /* Memory limit in bytes for estimates (0 = physical memory). */
-void vp_context_set_max_memory(vp_context *ctx, uint64_t bytes);
-uint64_t vp_context_max_memory(const vp_context *ctx);
+VP_API void vp_context_set_max_memory(vp_context *ctx, uint64_t bytes);
+VP_API uint64_t vp_context_max_memory(const vp_context *ctx);
 
 /* ------------------------------------------------------------------ */
 /* Shapes                                                              */
@@ -96,14 +125,14 @@ typedef enum vp_shape {
 } vp_shape;
 
 /* "sphere", "cube", ..., "mesh"; NULL for an invalid value. */
-const char *vp_shape_name(vp_shape s);
+VP_API const char *vp_shape_name(vp_shape s);
 /* Parses a shape name; returns 0 on success. */
-int vp_shape_parse(const char *name, vp_shape *out);
+VP_API int vp_shape_parse(const char *name, vp_shape *out);
 /* Volume of the shape scaled to bounding-sphere (circum) radius 1. */
-double vp_shape_unit_volume(vp_shape s);
+VP_API double vp_shape_unit_volume(vp_shape s);
 /* Writes the unit shape (circumradius 1, centroid at the origin, in the
  * orientation that `orient` = identity means) as an OBJ file, atomically. */
-vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path);
+VP_API vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path);
 
 /* A particle shape from a closed mesh file (any format Assimp reads; convex
  * or not), normalised: the centroid of its volume at the origin and its
@@ -113,15 +142,22 @@ vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path);
  * non-manifold mesh (VP_ERR_OPEN_MESH, naming the edge counts), a mesh that
  * encloses no volume (VP_ERR_FORMAT). *out is owned by the caller. */
 typedef struct vp_mesh_shape vp_mesh_shape;
-vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **out);
-void vp_mesh_shape_destroy(vp_mesh_shape *s); /* NULL: no-op */
-double vp_mesh_shape_volume(const vp_mesh_shape *s);   /* at bounding radius 1 */
-double vp_mesh_shape_inradius(const vp_mesh_shape *s); /* nearest surface point from the
-                                                          centroid; 0 if it is outside */
-size_t vp_mesh_shape_triangles(const vp_mesh_shape *s);
-const char *vp_mesh_shape_name(const vp_mesh_shape *s); /* the file's base name; owned by s */
+VP_API vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **out);
+VP_API void vp_mesh_shape_destroy(vp_mesh_shape *s); /* NULL: no-op */
+VP_API double vp_mesh_shape_volume(const vp_mesh_shape *s);   /* at bounding radius 1 */
+VP_API double vp_mesh_shape_inradius(const vp_mesh_shape *s); /* nearest surface point from the
+                                                                 centroid; 0 if it is outside */
+VP_API size_t vp_mesh_shape_triangles(const vp_mesh_shape *s);
+VP_API const char *vp_mesh_shape_name(const vp_mesh_shape *s); /* the file's base name; owned by s */
+/* The same from a triangle mesh in memory (arrays as for
+ * vp_container_from_mesh: 3 * vertex_count doubles, 3 * triangle_count
+ * 32-bit indices, only read during the call); name (NULL = "mesh") is what
+ * vp_mesh_shape_name returns and what files record. */
+VP_API vp_result vp_mesh_shape_from_mesh(vp_context *ctx, const char *name, const double *vertices,
+                                         size_t vertex_count, const uint32_t *triangles,
+                                         size_t triangle_count, vp_mesh_shape **out);
 /* Writes the normalised shape as OBJ (atomically), for instancing. */
-vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const char *path);
+VP_API vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const char *path);
 
 /* ------------------------------------------------------------------ */
 /* Containers                                                          */
@@ -167,16 +203,16 @@ typedef struct vp_container_info {
 } vp_container_info;
 
 /* Analytic containers (exact; for tests and simple jobs). */
-vp_result vp_container_create_sphere(vp_context *ctx, const double center[3],
-                                     double radius, vp_container **out);
-vp_result vp_container_create_box(vp_context *ctx, const double bmin[3],
-                                  const double bmax[3], vp_container **out);
+VP_API vp_result vp_container_create_sphere(vp_context *ctx, const double center[3],
+                                            double radius, vp_container **out);
+VP_API vp_result vp_container_create_box(vp_context *ctx, const double bmin[3],
+                                         const double bmax[3], vp_container **out);
 /* A caller-defined container. user is owned by the container if
  * ops->destroy is set. bounds must enclose the inside. */
-vp_result vp_container_create_custom(vp_context *ctx, const vp_container_ops *ops,
-                                     void *user, const double bmin[3],
-                                     const double bmax[3], double volume,
-                                     vp_container **out);
+VP_API vp_result vp_container_create_custom(vp_context *ctx, const vp_container_ops *ops,
+                                            void *user, const double bmin[3],
+                                            const double bmax[3], double volume,
+                                            vp_container **out);
 
 typedef struct vp_container_params {
     double voxel_size;        /* 0 = automatic */
@@ -197,21 +233,47 @@ typedef struct vp_container_params {
                                  a coarse depth map, and about a third
                                  faster to voxelize; 0: 1.25 r + 2 voxels,
                                  room for growth and relaxation */
+    const char *name;         /* vp_container_from_mesh: the mesh's name in
+                                 messages; NULL = "mesh" */
 } vp_container_params;
-void vp_container_params_init(vp_container_params *p);
+VP_API void vp_container_params_init(vp_container_params *p);
 
 /* Loads a container from a mesh (anything Assimp reads) or a .vdb level
  * set, chosen by content/extension. *out is owned by the caller. */
-vp_result vp_container_load(vp_context *ctx, const char *path,
-                            const vp_container_params *params, vp_container **out);
+VP_API vp_result vp_container_load(vp_context *ctx, const char *path,
+                                   const vp_container_params *params, vp_container **out);
 
-void vp_container_destroy(vp_container *c);
-double vp_container_distance(const vp_container *c, const double p[3]);
-void vp_container_gradient(const vp_container *c, const double p[3], double g[3]);
-void vp_container_get_info(const vp_container *c, vp_container_info *info);
+/* A container from a triangle mesh in memory, such as a host application's
+ * evaluated mesh, without a file: vertices holds 3 * vertex_count doubles
+ * (x, y, z in world units), triangles 3 * triangle_count 32-bit indices
+ * into them (from 0; counter-clockwise seen from outside, though a closed
+ * mesh's inside does not depend on it). Welded, checked and voxelized
+ * exactly as a mesh file is by vp_container_load, with the same errors (an
+ * open or non-manifold mesh unless params->allow_open: VP_ERR_OPEN_MESH; a
+ * mesh that encloses no volume: VP_ERR_BAD_CONTAINER; ...), and for the
+ * arrays VP_ERR_INVALID_ARGUMENT: a NULL pointer, a pointer not aligned
+ * for its type, an index out of range, a non-finite coordinate. The arrays
+ * are only read, during the call; params->name names the mesh in messages.
+ * *out is owned by the caller. */
+VP_API vp_result vp_container_from_mesh(vp_context *ctx, const double *vertices,
+                                        size_t vertex_count, const uint32_t *triangles,
+                                        size_t triangle_count,
+                                        const vp_container_params *params, vp_container **out);
+/* For a host that holds an OpenVDB level set in memory: write it to a .vdb
+ * (a fast local or RAM disk will do) and load that, or wrap its sampler in
+ * vp_container_create_custom (docs/python.md, "Containers from a host"). */
+
+VP_API void vp_container_destroy(vp_container *c);
+VP_API double vp_container_distance(const vp_container *c, const double p[3]);
+VP_API void vp_container_gradient(const vp_container *c, const double p[3], double g[3]);
+VP_API void vp_container_get_info(const vp_container *c, vp_container_info *info);
+/* Signed distances at n points (points: 3 * n doubles; out: n doubles, both
+ * owned by the caller), as vp_container_distance gives them one by one. */
+VP_API void vp_container_distances(const vp_container *c, const double *points, size_t n,
+                                   double *out);
 /* Writes a level-set container as its own .vdb (atomically). Analytic
  * containers are refused with VP_ERR_INVALID_ARGUMENT. */
-vp_result vp_container_save(vp_context *ctx, const vp_container *c, const char *path);
+VP_API vp_result vp_container_save(vp_context *ctx, const vp_container *c, const char *path);
 
 /* ------------------------------------------------------------------ */
 /* Particles                                                           */
@@ -240,10 +302,10 @@ typedef struct vp_particles {
                                sqrt(3) * voxel / 65535); 0 otherwise */
 } vp_particles;
 
-vp_result vp_particles_create(vp_context *ctx, size_t capacity, vp_particles **out);
-void vp_particles_destroy(vp_particles *p);
+VP_API vp_result vp_particles_create(vp_context *ctx, size_t capacity, vp_particles **out);
+VP_API void vp_particles_destroy(vp_particles *p);
 /* Sum of particle volumes (shape volume times radius cubed). */
-double vp_particles_volume(const vp_particles *p);
+VP_API double vp_particles_volume(const vp_particles *p);
 
 /* ------------------------------------------------------------------ */
 /* Lattice packer                                                      */
@@ -257,8 +319,8 @@ typedef enum vp_lattice {
     VP_LATTICE_DENSEST
 } vp_lattice;
 
-const char *vp_lattice_name(vp_lattice l);
-int vp_lattice_parse(const char *name, vp_lattice *out);
+VP_API const char *vp_lattice_name(vp_lattice l);
+VP_API int vp_lattice_parse(const char *name, vp_lattice *out);
 
 typedef enum vp_fit {
     VP_FIT_INSIDE = 0, /* every particle wholly inside (every vertex for polyhedra) */
@@ -276,7 +338,7 @@ typedef struct vp_lattice_params {
     int rotations;       /* orientations to try with rotate; 0 = automatic */
     uint64_t seed;
 } vp_lattice_params;
-void vp_lattice_params_init(vp_lattice_params *p);
+VP_API void vp_lattice_params_init(vp_lattice_params *p);
 
 typedef struct vp_lattice_report {
     double radius;            /* radius used */
@@ -294,12 +356,20 @@ typedef struct vp_lattice_report {
 /* The packing fraction of the infinite lattice that vp_pack_lattice uses
  * for shape on lattice (VP_LATTICE_DEFAULT resolved as there), or 0 when
  * the combination is not offered. */
-double vp_lattice_fraction(vp_shape shape, vp_lattice lattice);
+VP_API double vp_lattice_fraction(vp_shape shape, vp_lattice lattice);
 
 /* Fills container c. *out is owned by the caller; report may be NULL. */
-vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c,
-                          const vp_lattice_params *params, vp_particles **out,
-                          vp_lattice_report *report);
+VP_API vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c,
+                                 const vp_lattice_params *params, vp_particles **out,
+                                 vp_lattice_report *report);
+/* What a mesh or level-set container needs to know of a lattice job
+ * before it is loaded: sets cp's particle_radius, particle_count,
+ * space_per_particle and narrow_band as the command line does (its other
+ * fields are left as they are), so that vp_container_load gives the same
+ * level set. Likewise vp_container_params_for_rsa (rsa.h) and
+ * vp_container_params_for_relax (relax.h). */
+VP_API void vp_container_params_for_lattice(vp_container_params *cp,
+                                            const vp_lattice_params *params);
 
 /* ------------------------------------------------------------------ */
 /* Output                                                              */
@@ -357,23 +427,23 @@ typedef struct vp_write_params {
                                 (VP_ERR_OUT_OF_MEMORY) before it is built;
                                 0 in vp_write_points: the context's limit */
 } vp_write_params;
-void vp_write_params_init(vp_write_params *p);
+VP_API void vp_write_params_init(vp_write_params *p);
 
 /* The smallest radius a .vdb can hold at VP_POSITION_ERROR_LIMIT for
  * positions up to max_coordinate (world, absolute) from the origin: float
  * P in the smallest voxel OpenVDB allows (about 1.5e-9 near the origin),
  * or in the voxel that keeps index coordinates within range far from it. */
-double vp_points_min_radius(double max_coordinate);
+VP_API double vp_points_min_radius(double max_coordinate);
 
 /* Writes a PointDataGrid "points" to path (atomically). */
-vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
-                          const vp_write_params *params);
+VP_API vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
+                                 const vp_write_params *params);
 /* Reads the "points" grid of a file written by vp_write_points (or any
  * PointDataGrid with P and optionally pscale, orient). */
-vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out);
+VP_API vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out);
 /* Describes every grid and the metadata of a .vdb; *out is malloc'd text
  * (JSON if json != 0) owned by the caller (free()). */
-vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out);
+VP_API vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out);
 
 /* Per-topic parts of the API. */
 #include "vdbpack/size_dist.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Loading containers: meshes (through Assimp) voxelized by OpenVDB, and
  * level sets read from .vdb files. Both end up as a vp_container whose
  * distance is a trilinear sample of the level set. */
@@ -140,19 +141,20 @@ static double mesh_area(const vp_mesh *m) {
     return a;
 }
 
-static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container_params *pp,
-                           vp_container **out) {
+/* A welded mesh (owned: destroyed here) into a level-set container, with
+ * the checks every mesh gets: closed (unless allow_open), a volume, a
+ * voxel size, memory. name names it in messages; from_memory: the hint for
+ * an open mesh names the parameter rather than the command-line option. */
+static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
+                               const vp_container_params *pp, int from_memory,
+                               vp_container **out) {
     char err[1024];
-    vp_mesh *m = NULL;
-    vp_result r = vp_mesh_load(path, &m, err, sizeof err);
-    if (r != VP_OK) return vp_fail(ctx, r, "%s", err);
-    const char *name = vp_path_base(path);
     if ((m->boundary_edges || m->nonmanifold_edges) && !pp->allow_open) {
         vp_fail(ctx, VP_ERR_OPEN_MESH,
                 "%s: the mesh is not closed: %zu boundary edges and %zu non-manifold edges "
-                "(after welding %zu vertices into %zu); fix it or pass --allow-open to "
-                "voxelize it anyway", name, m->boundary_edges, m->nonmanifold_edges,
-                m->nverts_raw, m->nverts);
+                "(after welding %zu vertices into %zu); fix it or %s to voxelize it anyway",
+                name, m->boundary_edges, m->nonmanifold_edges, m->nverts_raw, m->nverts,
+                from_memory ? "set allow_open" : "pass --allow-open");
         vp_mesh_destroy(m);
         return VP_ERR_OPEN_MESH;
     }
@@ -240,7 +242,16 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
                                     sizeof err);
     vp_mesh_destroy(m);
     if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
-    return finish_levelset(ctx, path, ls, &info, out);
+    return finish_levelset(ctx, name, ls, &info, out);
+}
+
+static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container_params *pp,
+                           vp_container **out) {
+    char err[1024];
+    vp_mesh *m = NULL;
+    vp_result r = vp_mesh_load(path, &m, err, sizeof err);
+    if (r != VP_OK) return vp_fail(ctx, r, "%s", err);
+    return voxelize_mesh(ctx, vp_path_base(path), m, pp, 0, out);
 }
 
 typedef struct probe_ls_arg {
@@ -317,6 +328,38 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
     return finish_levelset(ctx, path, ls, &info, out);
 }
 
+/* The sizes of params: VP_OK, or the failure. */
+static vp_result check_params(vp_context *ctx, const vp_container_params *params) {
+    if (params->voxel_size < 0 || !isfinite(params->voxel_size) || params->particle_radius < 0 ||
+        !isfinite(params->particle_radius) || params->space_per_particle < 0 ||
+        !isfinite(params->space_per_particle))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "the voxel size and particle radius must be positive finite numbers");
+    return VP_OK;
+}
+
+vp_result vp_container_from_mesh(vp_context *ctx, const double *vertices, size_t vertex_count,
+                                 const uint32_t *triangles, size_t triangle_count,
+                                 const vp_container_params *params, vp_container **out) {
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "container: out is NULL");
+    *out = NULL;
+    vp_container_params def;
+    if (!params) {
+        vp_container_params_init(&def);
+        params = &def;
+    }
+    vp_result r = check_params(ctx, params);
+    if (r != VP_OK) return r;
+    const char *name = params->name && *params->name ? params->name : "mesh";
+    char err[1024];
+    vp_mesh *m = NULL;
+    r = vp_mesh_from_arrays(vertices, vertex_count, triangles, triangle_count, name, &m, err,
+                            sizeof err);
+    if (r != VP_OK) return vp_fail(ctx, r, "%s", err);
+    vpv_init();
+    return voxelize_mesh(ctx, name, m, params, 1, out);
+}
+
 vp_result vp_container_load(vp_context *ctx, const char *path, const vp_container_params *params,
                             vp_container **out) {
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "container: out is NULL");
@@ -327,10 +370,8 @@ vp_result vp_container_load(vp_context *ctx, const char *path, const vp_containe
         vp_container_params_init(&def);
         params = &def;
     }
-    if (params->voxel_size < 0 || !isfinite(params->voxel_size) || params->particle_radius < 0 ||
-        !isfinite(params->particle_radius))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "the voxel size and particle radius must be positive finite numbers");
+    vp_result pr = check_params(ctx, params);
+    if (pr != VP_OK) return pr;
     FILE *f = fopen(path, "rb");
     if (!f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
     fclose(f);

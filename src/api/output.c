@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Output: VDB points (through the C++ layer), reading them back, file
  * descriptions and the unit particle shape as OBJ. Every file is written to
  * a temporary path and renamed, so no partial file is ever left. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* OpenVDB 10's reader trusts the sizes and offsets stored in a .vdb: on a
  * corrupt file it can read past its buffers, copy gigabytes, loop for
  * minutes or die (see docs/hardening.md for what fuzzing found). vdbpack
@@ -9,7 +10,7 @@
  * hangs in its first parallel call. */
 #include "api/probe.h"
 #include "core/context.h"
-#include "core/subproc.h"
+#include "os/subproc.h"
 #include "vdb/vdb_bridge.h"
 
 #include <errno.h>

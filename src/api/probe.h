@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* OpenVDB's file reader in a throw-away child process first (see probe.c).
  * Internal to src/api. */
 #ifndef VDBPACK_API_PROBE_H
@@ -14,7 +15,7 @@ typedef int (*vp_probe_fn)(const void *arg, char *err, size_t errlen);
  * the file without error, the caller may now read it in-process. Otherwise
  * the child's own error, or one line saying that OpenVDB's reader crashed
  * (by signal) or hung on path; ctx holds the message. Returns VP_OK at once
- * in fuzz and ASan builds (see core/subproc.h), when $VDBPACK_VDB_PROBE
+ * in fuzz and ASan builds (see os/subproc.h), when $VDBPACK_VDB_PROBE
  * is 0, and when TBB cannot end its worker threads before the fork (another
  * thread is inside a TBB algorithm): a child forked beside them would hang. */
 vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const void *arg);

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* `vdbpack check FILE.vdb --container C`: recomputes overlaps, particles
  * outside the container, the packing fraction and the mean contact number
  * from the file alone, and exits 3 on a violation. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Shared pieces of the command-line tool. */
 #ifndef VDBPACK_CLI_CLI_H
 #define VDBPACK_CLI_CLI_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* `vdbpack convert IN OUT`: a packing from one format to another (.vdb,
  * .ply, .csv in; .vdb, .ply, .csv, .obj out), and the output-format pieces
  * `vdbpack pack -o` shares (choosing the format, the OBJ size warning). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* vdbpack command-line tool: a thin layer over the public C API.
  * Every failure ends in one line on stderr ("vdbpack: ...") and a non-zero
  * exit status: 2 for usage errors, 1 for everything else. */
@@ -13,7 +14,6 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
-#include "mesh/isolate.h"
 
 static const char *MAIN_HELP =
     "vdbpack " VP_VERSION_STRING ": fill a closed container with non-overlapping particles\n"
@@ -174,7 +174,7 @@ int main(int argc, char **argv) {
         /* tests read this line: sanitizer builds cannot contain a reader's
          * crash in a child process */
         printf("file readers (Assimp, OpenVDB): %s\n",
-               vp_mesh_import_is_isolated() ? "checked in a child process first"
+               vp_readers_isolated() ? "checked in a child process first"
                                             : "in-process (sanitizer or fuzz build)");
         return 0;
     }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* `vdbpack pack`: options, container, packer, outputs and the summary. */
 #include "vdbpack/vdbpack.h"
 
@@ -458,21 +459,6 @@ static const char *stop_name(vp_rsa_stop s) {
     return s == VP_RSA_STOP_COUNT ? "count" : s == VP_RSA_STOP_RETRIES ? "retries" : "maximal";
 }
 
-/* Largest bounding radius the method can produce (sizes the level set's
- * interior band), or 0 when only a count is known. */
-static double largest_radius(const pack_opts *o) {
-    if (!strcmp(o->method, "lattice")) return o->radius;
-    if (!strcmp(o->method, "rsa")) {
-        double m = 0;
-        for (int i = 0; i < o->npasses; i++) {
-            double r = vp_size_dist_max(&o->passes[i].radius);
-            if (r > m) m = r;
-        }
-        return m;
-    }
-    return o->target_fraction > 0 ? 0.0 : vp_size_dist_max(&o->sizes);
-}
-
 /* Lattice --count: the radius the packer starts from (the infinite
  * lattice's, which fills the container's volume with count particles); the
  * radius it ends with is about this or smaller. */
@@ -509,47 +495,81 @@ static int vdb_radius_check(const pack_opts *o, const vp_container_info *ci, dou
                       least * VP_POSITION_ERROR_LIMIT, VP_POSITION_ERROR_LIMIT, least);
 }
 
+/* The library's parameters of the method's job, from the options. */
+static void lattice_params(const pack_opts *o, vp_lattice_params *lp) {
+    vp_lattice_params_init(lp);
+    lp->shape = o->shape;
+    lp->lattice = o->lattice;
+    lp->fit = o->fit;
+    lp->radius = o->radius;
+    lp->count = (size_t)o->count;
+    lp->offsets = (int)o->offsets;
+    lp->rotate = o->rotate;
+    lp->rotations = (int)o->rotations;
+    lp->seed = o->seed;
+}
+
+static void rsa_params(const pack_opts *o, vp_rsa_params *rp) {
+    vp_rsa_params_init(rp);
+    rp->fit = o->fit;
+    rp->shape = o->shape;
+    rp->mesh = o->mesh;
+    rp->orient = (vp_orient_mode)o->orient;
+    rp->overlap = (vp_overlap_mode)o->overlap;
+    rp->passes = o->passes;
+    rp->npasses = (size_t)o->npasses;
+    rp->seed = o->seed;
+}
+
+static void relax_params(const pack_opts *o, vp_relax_params *xp) {
+    vp_relax_params_init(xp);
+    xp->fit = o->fit;
+    xp->radius = o->sizes;
+    xp->count = (size_t)o->count;
+    xp->target_fraction = o->target_fraction;
+    if (o->tolerance > 0) xp->tolerance = o->tolerance;
+    xp->seed = o->seed;
+}
+
+/* What loading a mesh or .vdb container needs to know of the job. */
+static void container_params(const pack_opts *o, vp_container_params *cp) {
+    vp_container_params_init(cp);
+    cp->voxel_size = o->voxel_size;
+    cp->allow_open = o->allow_open;
+    cp->grid_name = o->grid;
+    if (!strcmp(o->method, "lattice")) {
+        vp_lattice_params lp;
+        lattice_params(o, &lp);
+        vp_container_params_for_lattice(cp, &lp);
+    } else if (!strcmp(o->method, "rsa")) {
+        vp_rsa_params rp;
+        rsa_params(o, &rp);
+        vp_container_params_for_rsa(cp, &rp);
+    } else {
+        vp_relax_params xp;
+        relax_params(o, &xp);
+        vp_container_params_for_relax(cp, &xp);
+    }
+}
+
 static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o,
                             vp_particles **p, run_result *rr) {
     memset(rr, 0, sizeof *rr);
     vp_result r;
     if (!strcmp(o->method, "lattice")) {
         vp_lattice_params lp;
-        vp_lattice_params_init(&lp);
-        lp.shape = o->shape;
-        lp.lattice = o->lattice;
-        lp.fit = o->fit;
-        lp.radius = o->radius;
-        lp.count = (size_t)o->count;
-        lp.offsets = (int)o->offsets;
-        lp.rotate = o->rotate;
-        lp.rotations = (int)o->rotations;
-        lp.seed = o->seed;
+        lattice_params(o, &lp);
         r = vp_pack_lattice(ctx, c, &lp, p, &rr->lat);
         rr->pack_seconds = rr->lat.seconds;
         rr->max_radius = rr->lat.radius;
     } else if (!strcmp(o->method, "rsa")) {
         vp_rsa_params rp;
-        vp_rsa_params_init(&rp);
-        rp.fit = o->fit;
-        rp.shape = o->shape;
-        rp.mesh = o->mesh;
-        rp.orient = (vp_orient_mode)o->orient;
-        rp.overlap = (vp_overlap_mode)o->overlap;
-        rp.passes = o->passes;
-        rp.npasses = (size_t)o->npasses;
-        rp.seed = o->seed;
+        rsa_params(o, &rp);
         r = vp_pack_rsa(ctx, c, &rp, p, &rr->rsa);
         rr->pack_seconds = rr->rsa.seconds;
     } else {
         vp_relax_params xp;
-        vp_relax_params_init(&xp);
-        xp.fit = o->fit;
-        xp.radius = o->sizes;
-        xp.count = (size_t)o->count;
-        xp.target_fraction = o->target_fraction;
-        if (o->tolerance > 0) xp.tolerance = o->tolerance;
-        xp.seed = o->seed;
+        relax_params(o, &xp);
         r = vp_pack_relax(ctx, c, &xp, p, &rr->relax);
         rr->pack_seconds = rr->relax.seconds;
     }
@@ -813,31 +833,7 @@ int vp_cli_pack(int argc, char **argv) {
     }
     if (an == 0) {
         vp_container_params cp;
-        vp_container_params_init(&cp);
-        cp.voxel_size = o.voxel_size;
-        cp.allow_open = o.allow_open;
-        cp.grid_name = o.grid;
-        cp.particle_radius = largest_radius(&o);
-        cp.particle_count = (size_t)o.count;
-        cp.narrow_band = !strcmp(o.method, "lattice");
-        /* space one particle takes (at bounding radius 1): shape volume /
-         * packing fraction, for estimating the radius from a count */
-        if (!strcmp(o.method, "lattice")) {
-            static const double frac[VP_SHAPE_COUNT] = {0.74048, 18.0 / 49.0, 1.0, 18.0 / 19.0,
-                                                        0.904508, 0.836357};
-            double f = frac[o.shape];
-            if (o.shape == VP_SHAPE_SPHERE) {
-                if (o.lattice == VP_LATTICE_SC) f = 0.5236;
-                else if (o.lattice == VP_LATTICE_BCC) f = 0.6802;
-            }
-            cp.space_per_particle = vp_shape_unit_volume(o.shape) / f;
-        } else if (!strcmp(o.method, "relax") && o.target_fraction > 0) {
-            /* radii scaled so that count spheres fill target_fraction:
-             * the largest is r_max, the mean cube E[r^3] */
-            double rmax = vp_size_dist_max(&o.sizes), m3 = vp_size_dist_mean_cube(&o.sizes);
-            cp.space_per_particle = 4.0 / 3.0 * M_PI * (m3 / (rmax * rmax * rmax)) /
-                                    o.target_fraction;
-        }
+        container_params(&o, &cp);
         if (vp_container_load(ctx, o.container, &cp, &c) != VP_OK) {
             status = lib_error(ctx);
             goto done;

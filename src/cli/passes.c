@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Parsing of the random packers' options: sizes (a radius or a
  * distribution) and `--pass count=N|max,radius=R|DIST[,retries=K][,grow]
  * [,name=NAME]`. Errors print one line and return the exit status 2. */

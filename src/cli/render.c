@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* `vdbpack render FILE.vdb -o IMAGE.exr|.png`: a preview of a packing, and
  * the preview that `vdbpack pack --preview` writes. */
 #include "vdbpack/vdbpack.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* SIGINT and SIGTERM: the first one asks the library to cancel (through the
  * progress callback, so it unwinds and frees as on any error) and arms a
  * one-second watchdog; if the library has not returned by then, or a second

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Parsing and JSON helpers for the command-line tool. */
 #include "vdbpack/vdbpack.h"
 

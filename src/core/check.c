@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Independent verification of a packing; see check.h and docs/check.md.
  * Works from the particle set alone (positions, radii, orientations, shape)
  * and the container's distance: every pair of bounding spheres that may

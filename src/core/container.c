@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Containers: the callback wrapper and the exact analytic sphere and box
  * that keep unit tests exact. */
 #include "core/container.h"
@@ -166,6 +167,11 @@ void vp_container_destroy(vp_container *c) {
 
 double vp_container_distance(const vp_container *c, const double p[3]) {
     return c->ops.distance(c->user, p);
+}
+
+void vp_container_distances(const vp_container *c, const double *points, size_t n, double *out) {
+    if (!c || !points || !out) return;
+    for (size_t i = 0; i < n; i++) out[i] = c->ops.distance(c->user, points + 3 * i);
 }
 
 void vp_container_gradient(const vp_container *c, const double p[3], double g[3]) {

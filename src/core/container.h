@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The container as packers see it: a signed distance (negative inside),
  * its gradient, bounds and volume, behind callbacks. Packers include only
  * this; OpenVDB level sets and analytic shapes both sit behind it. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Context, result names and small process-level helpers. */
 #include "core/context.h"
 
@@ -7,6 +8,10 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+
+const char *vp_version(void) { return VP_VERSION_STRING; }
+
+int vp_version_number(void) { return VP_VERSION_NUMBER; }
 
 const char *vp_result_name(vp_result r) {
     switch (r) {

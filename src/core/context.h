@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The library context (opaque in the public API): last error message,
  * thread count, progress callback and memory limit. */
 #ifndef VDBPACK_CORE_CONTEXT_H

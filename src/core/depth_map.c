@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The coarse depth map of a level-set container (see depth_map.h).
  *
  * Why the bound holds. Let x lie in a block whose nearest leaf block is k

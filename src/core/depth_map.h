@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* A coarse map of where a level-set container's sampled distance is known
  * without sampling: per block of 8^3 voxels, a bound that holds for every
  * point near the block, or NaN ("sample it"). It carries depth information

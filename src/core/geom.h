@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Small vector and quaternion helpers and constants shared by the C core (header-only).
  * Quaternions are (x, y, z, w), as OpenVDB's math::Quat and Houdini's
  * orient store them. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Lattice bases at bounding-sphere (circum) radius 1. Every basis is at
  * contact: the particle at the origin touches, but does not overlap, its
  * lattice translates. Derivations, sources and the corrections to the seed

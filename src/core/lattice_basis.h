@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Lattice bases, at bounding-sphere radius 1, for packing spheres on SC,
  * BCC, FCC and HCP, and each platonic solid (in the canonical orientation of
  * shape.h) on its densest known lattice. Sources and derivations are in

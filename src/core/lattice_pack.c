@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Lattice packer: fills a container with one lattice (spheres on SC, BCC,
  * FCC, HCP; solids on their densest lattices) and searches the lattice
  * offset (and, on request, orientation) that fits the most particles.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mesh-shaped particles: a closed mesh read through Assimp (src/mesh),
  * normalised to its volume centroid and bounding radius 1, with a BVH over
  * its triangles. Two placed copies overlap when a pair of their triangles

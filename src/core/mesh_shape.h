@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Particle shapes from closed meshes (any format Assimp reads), convex or
  * not: the unit shape, a bounding-volume hierarchy over its triangles, and
  * the exact tests the packers and the checker share (see mesh_shape.c and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Fork-join over a pool of pthreads; see parallel.h.
  *
  * The random packer calls vp_parallel_for thousands of times per pass (a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* A minimal fork-join helper over a pool of pthreads kept between calls.
  * Work is split by the caller into a fixed number of chunks so results
  * never depend on thread timing. */

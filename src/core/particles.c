@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Particle sets (structure of arrays; see vdbpack.h). */
 #include "core/context.h"
 #include "core/shape.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Relaxation packer after He, Ekere & Cai (1999); see relax.h and
  * docs/relax.md.
  *

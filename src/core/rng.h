@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Deterministic random numbers for the packers (header-only): splitmix64 for
  * seeding and streams, uniform doubles in [0,1), standard normals and
  * uniform random rotations. One state per stream; never global state, so

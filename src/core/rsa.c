@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Random sequential addition (RSA) of spheres in passes; see rsa.h and
  * docs/rsa.md.
  *
@@ -22,7 +23,7 @@
  * random stream (seed, pass, k). Darts are made and pre-tested (container,
  * particles placed before the batch) in parallel, then accepted in dart
  * order on one thread, so the result does not depend on the thread count. */
-#include "core/bigmem.h"
+#include "os/bigmem.h"
 #include "core/container.h"
 #include "core/context.h"
 #include "core/geom.h"

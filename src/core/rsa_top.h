@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The "top ball" of an active cell of the RSA packer (docs/rsa.md,
  * "Top ball"): one exclusion ball, among those gathered when the cell was
  * made, that holds much of it. It is stored in 3 bytes as its centre's

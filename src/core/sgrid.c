@@ -1,7 +1,8 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Hierarchical cell grid for neighbour search; see sgrid.h. */
 #include "core/sgrid.h"
 
-#include "core/bigmem.h"
+#include "os/bigmem.h"
 
 #include <math.h>
 #include <stdlib.h>

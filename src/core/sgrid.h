@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Neighbour search for spheres of mixed sizes: a hierarchy of dense cell
  * grids (cell linked lists), one level per factor of two in radius, so a
  * query costs about the same for small and large radii when sizes differ a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Particle shapes: names, unit volumes, the five platonic solids as convex
  * polyhedra (circumradius 1, centroid at the origin) and the separating-axis
  * test. See shape.h and docs/lattices.md for the canonical orientations. */

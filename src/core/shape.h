@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Particle shapes: the sphere and the five platonic solids, each scaled to
  * bounding-sphere (circum) radius 1 with its centroid at the origin, in the
  * canonical orientation that the lattice bases of lattice_basis.h assume.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Particle size distributions: parsing, moments and sampling. */
 #include "core/context.h"
 #include "core/rng.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Sampling a vp_size_dist (internal to the core). */
 #ifndef VDBPACK_CORE_SIZE_DIST_SAMPLE_H
 #define VDBPACK_CORE_SIZE_DIST_SAMPLE_H

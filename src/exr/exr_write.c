@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* A rendered image as an OpenEXR file through OpenEXR's C API (OpenEXRCore):
  * one scanline part, ZIP compression, channels R, G, B, A, Z (32-bit float)
  * and id (32-bit uint). Written to a temporary file and renamed. */

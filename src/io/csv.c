@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* CSV: a header row (id,x,y,z,pscale[,qx,qy,qz,qw],group) and one row per
  * particle in id order; positions with %.17g (the stored doubles exactly),
  * pscale and orient with %.9g (floats exactly), the group by name. No

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Export formats: names, choosing one by extension, the vp_export /
  * vp_import dispatch, and the helpers the writers and readers share. */
 #include "io/io_internal.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Shared pieces of the export formats (src/io): atomic text/binary output
  * through stdio, per-particle accessors over vp_particles' uniform-or-array
  * fields, and the checks every reader applies. Private to src/io. */

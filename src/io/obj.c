@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* OBJ: every particle's surface as a mesh (write only): the unit shape of
  * core/shape.h (spheres: an icosphere, each icosahedron edge split in n),
  * scaled by pscale, rotated by orient and moved to P. One object (o/g) per

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Binary little-endian PLY: one vertex element, one vertex per particle
  * (x y z pscale id [orient_x orient_y orient_z orient_w] group), the shape,
  * group names and metadata as comment lines. The reader takes what the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Runs a mesh import in a child process so that a bug in Assimp (an endless
  * loop, a crash, an abort() from one of its assertions, a runaway
  * allocation) on hostile input becomes one clear error instead of a hung or
@@ -5,7 +6,7 @@
  * vp_mesh back through a pipe; the parent enforces a deadline and reports
  * how the child ended. */
 #include "mesh/isolate.h"
-#include "core/subproc.h"
+#include "os/subproc.h"
 
 #include <errno.h>
 #include <signal.h>
@@ -31,7 +32,7 @@ double vp_mesh_import_timeout(size_t file_bytes)
     return vp_subproc_timeout("VDBPACK_IMPORT_TIMEOUT", 10.0, 2.0, file_bytes);
 }
 
-int vp_mesh_import_is_isolated(void)
+int vp_readers_isolated(void)
 {
 #ifdef VP_SUBPROC_IN_PROCESS
     return 0;

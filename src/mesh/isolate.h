@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mesh import in a child process (see isolate.c): Assimp's hangs and crashes
  * on hostile files become errors. Internal to src/mesh. */
 #ifndef VDBPACK_MESH_ISOLATE_H
@@ -15,10 +16,9 @@ typedef vp_result (*vp_mesh_import_fn)(const void *arg, vp_mesh **out, char *err
 vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const char *name,
                                   double timeout, vp_mesh **out, char *err, size_t errlen);
 
-/* 1 when imports run in a child process (the product); 0 in fuzz and
- * AddressSanitizer builds, which import in-process (see isolate.c): there a
- * hang or crash of Assimp is not contained. */
-int vp_mesh_import_is_isolated(void);
+/* Whether imports run in a child process (the product) or in-process
+ * (fuzz and AddressSanitizer builds, where a hang or crash of Assimp is not
+ * contained): vp_readers_isolated() in vdbpack.h. */
 
 /* Deadline for a file of that size: $VDBPACK_IMPORT_TIMEOUT seconds when
  * set, otherwise 10 s plus 2 s per MB. */

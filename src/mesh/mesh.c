@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mesh input through Assimp's C API (see mesh.h).
  *
  * Files are imported with NO Assimp post-processing (flags 0); this file
@@ -51,169 +52,7 @@ static void set_err(char *err, size_t errlen, const char *fmt, const char *name,
 }
 
 /* ------------------------------------------------------------------ */
-/* Welding: open-addressing hash on the bit pattern of (x, y, z).     */
-
-static uint64_t mix64(uint64_t h)
-{
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdULL;
-    h ^= h >> 33;
-    h *= 0xc4ceb9fe1a85ec53ULL;
-    h ^= h >> 33;
-    return h;
-}
-
-static uint64_t hash_pos(const double p[3])
-{
-    uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (int k = 0; k < 3; ++k) {
-        uint64_t b;
-        memcpy(&b, &p[k], sizeof b);
-        h = mix64(h ^ b) + 0x9e3779b97f4a7c15ULL * (uint64_t)(k + 1);
-    }
-    return mix64(h);
-}
-
-/* ------------------------------------------------------------------ */
-/* Edges, sorted by (a, b) with a < b.                                 */
-
-typedef struct edge_rec {
-    uint64_t key; /* (uint64)a << 32 | b */
-    uint32_t tri;
-} edge_rec;
-
-static int cmp_edge(const void *pa, const void *pb)
-{
-    const edge_rec *a = pa, *b = pb;
-    if (a->key != b->key)
-        return a->key < b->key ? -1 : 1;
-    return a->tri < b->tri ? -1 : (a->tri > b->tri);
-}
-
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a != b) {
-        if (a < b)
-            parent[b] = a;
-        else
-            parent[a] = b;
-    }
-}
-
-/* Topology, bbox and volume of m (verts and tris already set). Returns
- * VP_OK or VP_ERR_OUT_OF_MEMORY. */
-static vp_result compute_topology(vp_mesh *m)
-{
-    size_t nt = m->ntris, ne = 3 * nt;
-    for (int k = 0; k < 3; ++k) {
-        m->bmin[k] = HUGE_VAL;
-        m->bmax[k] = -HUGE_VAL;
-    }
-    for (size_t i = 0; i < m->nverts; ++i)
-        for (int k = 0; k < 3; ++k) {
-            double v = m->verts[3 * i + k];
-            if (v < m->bmin[k]) m->bmin[k] = v;
-            if (v > m->bmax[k]) m->bmax[k] = v;
-        }
-
-    double c[3];
-    for (int k = 0; k < 3; ++k)
-        c[k] = 0.5 * (m->bmin[k] + m->bmax[k]);
-    double vol = 0.0;
-    for (size_t t = 0; t < nt; ++t) {
-        const double *p0 = m->verts + 3 * (size_t)m->tris[3 * t];
-        const double *p1 = m->verts + 3 * (size_t)m->tris[3 * t + 1];
-        const double *p2 = m->verts + 3 * (size_t)m->tris[3 * t + 2];
-        double a[3], b[3], d[3];
-        for (int k = 0; k < 3; ++k) {
-            a[k] = p0[k] - c[k];
-            b[k] = p1[k] - c[k];
-            d[k] = p2[k] - c[k];
-        }
-        vol += a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
-               a[2] * (b[0] * d[1] - b[1] * d[0]);
-        /* Geometrically zero-area triangle (collinear corners). */
-        double e1[3], e2[3], e3[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = p1[k] - p0[k];
-            e2[k] = p2[k] - p0[k];
-            e3[k] = p2[k] - p1[k];
-        }
-        double cx = e1[1] * e2[2] - e1[2] * e2[1];
-        double cy = e1[2] * e2[0] - e1[0] * e2[2];
-        double cz = e1[0] * e2[1] - e1[1] * e2[0];
-        double area2 = sqrt(cx * cx + cy * cy + cz * cz);
-        double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
-        double l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-        double l3 = e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2];
-        double lmax = l1 > l2 ? l1 : l2;
-        if (l3 > lmax) lmax = l3;
-        if (area2 <= 1e-12 * lmax)
-            m->zero_area_tris++;
-    }
-    m->signed_volume = vol / 6.0;
-
-    edge_rec *edges = malloc((ne ? ne : 1) * sizeof *edges);
-    uint32_t *parent = malloc((nt ? nt : 1) * sizeof *parent);
-    if (!edges || !parent) {
-        free(edges);
-        free(parent);
-        return VP_ERR_OUT_OF_MEMORY;
-    }
-    for (size_t t = 0; t < nt; ++t) {
-        parent[t] = (uint32_t)t;
-        for (int j = 0; j < 3; ++j) {
-            uint32_t a = m->tris[3 * t + j], b = m->tris[3 * t + (j + 1) % 3];
-            if (a > b) {
-                uint32_t s = a;
-                a = b;
-                b = s;
-            }
-            edges[3 * t + j].key = ((uint64_t)a << 32) | b;
-            edges[3 * t + j].tri = (uint32_t)t;
-        }
-    }
-    qsort(edges, ne, sizeof *edges, cmp_edge);
-    for (size_t i = 0; i < ne;) {
-        size_t j = i + 1;
-        while (j < ne && edges[j].key == edges[i].key) {
-            uf_union(parent, edges[i].tri, edges[j].tri);
-            ++j;
-        }
-        if (j - i == 1)
-            m->boundary_edges++;
-        else if (j - i >= 3)
-            m->nonmanifold_edges++;
-        i = j;
-    }
-    m->components = 0;
-    for (size_t t = 0; t < nt; ++t)
-        if (uf_find(parent, (uint32_t)t) == t)
-            m->components++;
-    free(edges);
-    free(parent);
-    return VP_OK;
-}
-
-/* ------------------------------------------------------------------ */
 /* Scene to welded mesh.                                               */
-
-static const char *nonfinite_name(double v)
-{
-    if (isnan(v)) return "nan";
-    return v > 0 ? "inf" : "-inf";
-}
 
 /* A mesh placed in the world by a node: Assimp's aiProcess_PreTransformVertices,
  * done here (see the comment at the top). */
@@ -391,114 +230,94 @@ fan_all:
     }
 }
 
-static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out,
-                            char *err, size_t errlen)
+/* The scene's mesh instances (node transforms applied), or those of the
+ * mesh list when the scene has no node tree. */
+static void collect_instances(const struct aiScene *sc, inst_list *L)
 {
-    vp_result res = VP_OK;
-    inst_list L = {0};
-    double *raw = NULL;     /* world positions of the current instance */
-    uint32_t *wid = NULL;   /* raw vertex -> welded id */
-    uint32_t *table = NULL; /* hash slots: welded id + 1, 0 = empty */
-    double *wpos = NULL;    /* welded positions, in order of creation */
-    uint32_t *tris = NULL;
-    uint32_t *remap = NULL;
-    uint32_t *ptris = NULL; /* polygon triangulation scratch */
-    double *pxy = NULL;
-    unsigned *pring = NULL;
-    unsigned maxpoly = 0;
-    vp_mesh *m = NULL;
-    size_t nraw = 0, ntri_max = 0, maxverts = 0;
-    *out = NULL;
-
-    if (!sc || !sc->mMeshes || sc->mNumMeshes == 0) {
-        set_err(err, errlen, "%s: %s", name, "no triangles in the file (no mesh in the scene)");
-        return VP_ERR_FORMAT;
-    }
     static const double identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
     if (sc->mRootNode) {
-        walk_nodes(sc, sc->mRootNode, identity, 0, &L);
-    } else {
-        for (unsigned i = 0; i < sc->mNumMeshes && !L.overflow; ++i) {
-            if (!sc->mMeshes[i])
-                continue;
-            if (L.n == L.cap) {
-                size_t nc = L.cap ? 2 * L.cap : 16;
-                instance *nv = realloc(L.v, nc * sizeof *nv);
-                if (!nv) { L.overflow = 1; break; }
-                L.v = nv;
-                L.cap = nc;
-            }
-            L.v[L.n].mesh = sc->mMeshes[i];
-            memcpy(L.v[L.n].m, identity, sizeof identity);
-            L.v[L.n++].flip = 0;
+        walk_nodes(sc, sc->mRootNode, identity, 0, L);
+        return;
+    }
+    for (unsigned i = 0; i < sc->mNumMeshes && !L->overflow; ++i) {
+        if (!sc->mMeshes[i])
+            continue;
+        if (L->n == L->cap) {
+            size_t nc = L->cap ? 2 * L->cap : 16;
+            instance *nv = realloc(L->v, nc * sizeof *nv);
+            if (!nv) { L->overflow = 1; break; }
+            L->v = nv;
+            L->cap = nc;
         }
+        L->v[L->n].mesh = sc->mMeshes[i];
+        memcpy(L->v[L->n].m, identity, sizeof identity);
+        L->v[L->n++].flip = 0;
     }
-    if (L.overflow) {
-        set_err(err, errlen, "%s: %s", name, "too many mesh instances in the scene");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
+}
 
-    /* Count vertices and triangles (polygons of n corners give n - 2). */
-    for (size_t i = 0; i < L.n; ++i) {
-        const struct aiMesh *am = L.v[i].mesh;
+/* Sizes of what the instances contribute: vertices, triangles (a polygon
+ * of n corners gives n - 2), the largest polygon and mesh. */
+typedef struct scene_counts {
+    size_t nraw, ntri_max, maxverts;
+    unsigned maxpoly;
+} scene_counts;
+
+static int instance_has_faces(const struct aiMesh *am)
+{
+    if (!mesh_usable(am))
+        return 0;
+    for (unsigned f = 0; f < am->mNumFaces; ++f)
+        if (face_usable(am, &am->mFaces[f]))
+            return 1;
+    return 0;
+}
+
+static scene_counts count_scene(const inst_list *L)
+{
+    scene_counts n = {0, 0, 0, 0};
+    for (size_t i = 0; i < L->n; ++i) {
+        const struct aiMesh *am = L->v[i].mesh;
         if (!mesh_usable(am))
             continue;
         size_t t = 0;
         for (unsigned f = 0; f < am->mNumFaces; ++f)
             if (face_usable(am, &am->mFaces[f])) {
                 t += am->mFaces[f].mNumIndices - 2;
-                if (am->mFaces[f].mNumIndices > maxpoly)
-                    maxpoly = am->mFaces[f].mNumIndices;
+                if (am->mFaces[f].mNumIndices > n.maxpoly)
+                    n.maxpoly = am->mFaces[f].mNumIndices;
             }
         if (t == 0)
             continue;
-        nraw += am->mNumVertices;
-        ntri_max += t;
-        if (am->mNumVertices > maxverts)
-            maxverts = am->mNumVertices;
+        n.nraw += am->mNumVertices;
+        n.ntri_max += t;
+        if (am->mNumVertices > n.maxverts)
+            n.maxverts = am->mNumVertices;
     }
-    if (ntri_max == 0) {
-        set_err(err, errlen, "%s: %s", name,
-                "no triangles in the file (no face with 3 or more corners)");
-        res = VP_ERR_FORMAT;
-        goto done;
-    }
-    if (nraw >= UINT32_MAX / 2 || ntri_max >= UINT32_MAX / 3) {
-        set_err(err, errlen, "%s: %s", name, "too many vertices or triangles");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
+    return n;
+}
 
-    size_t cap = 16;
-    while (cap < 2 * nraw)
-        cap <<= 1;
-    raw = malloc(3 * maxverts * sizeof *raw);
-    wid = malloc(maxverts * sizeof *wid);
-    table = calloc(cap, sizeof *table);
-    wpos = malloc(3 * nraw * sizeof *wpos);
-    tris = malloc(3 * ntri_max * sizeof *tris);
-    ptris = malloc(3 * (size_t)maxpoly * sizeof *ptris);
-    pxy = malloc(2 * (size_t)maxpoly * sizeof *pxy);
-    pring = malloc((size_t)maxpoly * sizeof *pring);
-    m = calloc(1, sizeof *m);
-    if (!raw || !wid || !table || !wpos || !tris || !ptris || !pxy || !pring || !m) {
-        set_err(err, errlen, "%s: %s", name, "out of memory");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
+/* Scratch of weld_instances, sized by count_scene. */
+typedef struct scene_scratch {
+    double *raw;    /* world positions of the current instance */
+    uint32_t *wid;  /* raw vertex -> welded id */
+    uint32_t *ptris; /* polygon triangulation */
+    double *pxy;
+    unsigned *pring;
+} scene_scratch;
 
-    /* Transform, check finiteness, weld, triangulate. */
-    size_t base = 0, nweld = 0, ntri = 0;
-    for (size_t i = 0; i < L.n; ++i) {
-        const struct aiMesh *am = L.v[i].mesh;
-        const double *M = L.v[i].m;
-        if (!mesh_usable(am))
-            continue;
-        int any = 0;
-        for (unsigned f = 0; f < am->mNumFaces && !any; ++f)
-            any = face_usable(am, &am->mFaces[f]);
-        if (!any)
+/* Transforms, checks and welds every instance's vertices and triangulates
+ * its faces into tris (welded ids); *ntri and *zero count the triangles
+ * kept and those collapsed by welding. VP_OK or VP_ERR_FORMAT (a
+ * non-finite coordinate, named in err). */
+static vp_result weld_instances(const inst_list *L, const char *name, vp_weld *w,
+                                scene_scratch *x, uint32_t *tris, size_t *ntri, size_t *zero,
+                                char *err, size_t errlen)
+{
+    size_t base = 0;
+    for (size_t i = 0; i < L->n; ++i) {
+        const struct aiMesh *am = L->v[i].mesh;
+        const double *M = L->v[i].m;
+        if (!instance_has_faces(am))
             continue;
         for (unsigned v = 0; v < am->mNumVertices; ++v) {
             double q[3] = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z};
@@ -515,31 +334,13 @@ static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh 
                     if (err && errlen)
                         snprintf(err, errlen,
                                  "%s: vertex %zu has a non-finite coordinate (%s) at (%g, %g, %g)%s",
-                                 name, base + v, nonfinite_name(c[k]), c[0], c[1], c[2],
+                                 name, base + v, vp_mesh_nonfinite_name(c[k]), c[0], c[1], c[2],
                                  pass ? " after its node's transform" : "");
-                    res = VP_ERR_FORMAT;
-                    goto done;
+                    return VP_ERR_FORMAT;
                 }
             }
-            for (int k = 0; k < 3; ++k)
-                p[k] += 0.0; /* -0.0 becomes +0.0 */
-            memcpy(raw + 3 * (size_t)v, p, sizeof p);
-            size_t s = (size_t)hash_pos(p) & (cap - 1);
-            for (;;) {
-                uint32_t id = table[s];
-                if (id == 0) {
-                    table[s] = (uint32_t)(nweld + 1);
-                    memcpy(wpos + 3 * nweld, p, sizeof p);
-                    wid[v] = (uint32_t)nweld++;
-                    break;
-                }
-                const double *e = wpos + 3 * (size_t)(id - 1);
-                if (e[0] == p[0] && e[1] == p[1] && e[2] == p[2]) {
-                    wid[v] = id - 1;
-                    break;
-                }
-                s = (s + 1) & (cap - 1);
-            }
+            memcpy(x->raw + 3 * (size_t)v, p, sizeof p);
+            x->wid[v] = vp_weld_add(w, p);
         }
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
             const struct aiFace *fc = &am->mFaces[f];
@@ -547,91 +348,104 @@ static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh 
                 continue;
             unsigned n = fc->mNumIndices;
             if (n == 3) {
-                ptris[0] = 0; ptris[1] = 1; ptris[2] = 2;
+                x->ptris[0] = 0; x->ptris[1] = 1; x->ptris[2] = 2;
             } else {
-                triangulate_polygon(raw, fc->mIndices, n, ptris, pxy, pring);
+                triangulate_polygon(x->raw, fc->mIndices, n, x->ptris, x->pxy, x->pring);
             }
             for (unsigned t = 0; t < n - 2; ++t) {
-                uint32_t w[3];
+                uint32_t c[3];
                 for (int j = 0; j < 3; ++j)
-                    w[j] = wid[fc->mIndices[ptris[3 * t + j]]];
-                if (L.v[i].flip) {
-                    uint32_t s = w[1]; w[1] = w[2]; w[2] = s;
+                    c[j] = x->wid[fc->mIndices[x->ptris[3 * t + j]]];
+                if (L->v[i].flip) {
+                    uint32_t s = c[1]; c[1] = c[2]; c[2] = s;
                 }
-                if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
-                    m->zero_area_tris++;
+                if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
+                    ++*zero;
                     continue;
                 }
-                memcpy(tris + 3 * ntri, w, sizeof w);
-                ++ntri;
+                memcpy(tris + 3 * *ntri, c, sizeof c);
+                ++*ntri;
             }
         }
         base += am->mNumVertices;
     }
+    return VP_OK;
+}
 
+/* The scene as one welded mesh: instances, counts, welding and
+ * triangulation, then the shared finish (mesh_build.c). */
+static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out,
+                            char *err, size_t errlen)
+{
+    vp_result res = VP_OK;
+    inst_list L = {0};
+    vp_weld w = {0};
+    scene_scratch x = {0};
+    uint32_t *tris = NULL;
+    *out = NULL;
+
+    if (!sc || !sc->mMeshes || sc->mNumMeshes == 0) {
+        set_err(err, errlen, "%s: %s", name, "no triangles in the file (no mesh in the scene)");
+        return VP_ERR_FORMAT;
+    }
+    collect_instances(sc, &L);
+    if (L.overflow) {
+        set_err(err, errlen, "%s: %s", name, "too many mesh instances in the scene");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    scene_counts n = count_scene(&L);
+    if (n.ntri_max == 0) {
+        set_err(err, errlen, "%s: %s", name,
+                "no triangles in the file (no face with 3 or more corners)");
+        res = VP_ERR_FORMAT;
+        goto done;
+    }
+    if (n.nraw >= UINT32_MAX / 2 || n.ntri_max >= UINT32_MAX / 3) {
+        set_err(err, errlen, "%s: %s", name, "too many vertices or triangles");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    x.raw = malloc(3 * n.maxverts * sizeof *x.raw);
+    x.wid = malloc(n.maxverts * sizeof *x.wid);
+    x.ptris = malloc(3 * (size_t)n.maxpoly * sizeof *x.ptris);
+    x.pxy = malloc(2 * (size_t)n.maxpoly * sizeof *x.pxy);
+    x.pring = malloc((size_t)n.maxpoly * sizeof *x.pring);
+    tris = malloc(3 * n.ntri_max * sizeof *tris);
+    if (!x.raw || !x.wid || !x.ptris || !x.pxy || !x.pring || !tris ||
+        vp_weld_init(&w, n.nraw) != 0) {
+        set_err(err, errlen, "%s: %s", name, "out of memory");
+        res = VP_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    size_t ntri = 0, zero = 0;
+    res = weld_instances(&L, name, &w, &x, tris, &ntri, &zero, err, errlen);
+    if (res != VP_OK)
+        goto done;
     if (ntri == 0) {
         set_err(err, errlen, "%s: %s", name,
                 "no triangles in the file (all degenerate after welding)");
         res = VP_ERR_FORMAT;
         goto done;
     }
-
-    /* Keep only welded vertices that kept triangles use, in order of first
-     * use. */
-    remap = malloc((nweld ? nweld : 1) * sizeof *remap);
-    if (!remap) {
-        set_err(err, errlen, "%s: %s", name, "out of memory");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    for (size_t i = 0; i < nweld; ++i)
-        remap[i] = UINT32_MAX;
-    size_t nv = 0;
-    for (size_t i = 0; i < 3 * ntri; ++i) {
-        uint32_t o = tris[i];
-        if (remap[o] == UINT32_MAX)
-            remap[o] = (uint32_t)nv++;
-        tris[i] = remap[o];
-    }
-    m->verts = malloc(3 * nv * sizeof *m->verts);
-    if (!m->verts) {
-        set_err(err, errlen, "%s: %s", name, "out of memory");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    for (size_t i = 0; i < nweld; ++i)
-        if (remap[i] != UINT32_MAX)
-            memcpy(m->verts + 3 * (size_t)remap[i], wpos + 3 * i, 3 * sizeof *wpos);
-
-    m->nverts_raw = nraw;
-    m->nverts = nv;
-    m->ntris = ntri;
     {
         uint32_t *shrunk = realloc(tris, 3 * ntri * sizeof *tris);
-        m->tris = shrunk ? shrunk : tris;
-        tris = NULL;
+        if (shrunk) tris = shrunk;
     }
-
-    res = compute_topology(m);
+    res = vp_mesh_finish(&w, tris, ntri, n.nraw, zero, out);
+    tris = NULL; /* owned by the mesh, or freed */
     if (res != VP_OK)
         set_err(err, errlen, "%s: %s", name, "out of memory");
 
 done:
     free(L.v);
-    free(raw);
-    free(wid);
-    free(table);
-    free(wpos);
+    free(x.raw);
+    free(x.wid);
+    free(x.ptris);
+    free(x.pxy);
+    free(x.pring);
     free(tris);
-    free(remap);
-    free(ptris);
-    free(pxy);
-    free(pring);
-    if (res != VP_OK) {
-        vp_mesh_destroy(m);
-        m = NULL;
-    }
-    *out = m;
+    vp_weld_free(&w);
     return res;
 }
 
@@ -731,7 +545,7 @@ static int obj_nonfinite_vertex(const char *path, char *err, size_t errlen)
                     line[--len] = '\0';
                 snprintf(err, errlen,
                          "%s: vertex %zu (line %zu: '%.60s') has a non-finite coordinate (%s)",
-                         path, vert, lineno, line, nonfinite_name((float)x));
+                         path, vert, lineno, line, vp_mesh_nonfinite_name((float)x));
                 found = 1;
             }
             c = end;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Mesh input through Assimp's C API: every mesh of the scene flattened into
  * one triangle soup in world space, vertices welded by exact position, and
  * the topology counts that decide whether the mesh encloses a volume. */
@@ -39,5 +40,42 @@ vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen
 vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,
                               vp_mesh **out, char *err, size_t errlen);
 
+/* A mesh from arrays in memory (vp_container_from_mesh,
+ * vp_mesh_shape_from_mesh): verts holds 3*nverts doubles, tris 3*ntris
+ * indices into them (counter-clockwise seen from outside). Welded and
+ * counted as an imported file is. Errors (one line naming `name`, "mesh"
+ * if NULL, in err): NULL or misaligned arrays, an index out of range or a
+ * non-finite coordinate (VP_ERR_INVALID_ARGUMENT), no triangles or all
+ * degenerate (VP_ERR_FORMAT). The arrays are only read. *out is owned by
+ * the caller. */
+vp_result vp_mesh_from_arrays(const double *verts, size_t nverts, const uint32_t *tris,
+                              size_t ntris, const char *name, vp_mesh **out, char *err,
+                              size_t errlen);
+
 void vp_mesh_destroy(vp_mesh *m);
+
+/* ---- building blocks shared by the importer and vp_mesh_from_arrays ---- */
+
+/* Welding by exact position: an open-addressing hash on the bit pattern of
+ * (x, y, z), -0.0 counted as +0.0. */
+typedef struct vp_weld {
+    uint32_t *table; /* slots: welded id + 1, 0 = empty */
+    size_t cap;      /* a power of two, at least twice the points */
+    double *pos;     /* 3*n welded positions, in order of creation */
+    size_t n;
+} vp_weld;
+/* Room for max_points points: 0, or -1 when out of memory. */
+int vp_weld_init(vp_weld *w, size_t max_points);
+/* The welded id of p (a new one, or that of an equal point added before). */
+uint32_t vp_weld_add(vp_weld *w, const double p[3]);
+void vp_weld_free(vp_weld *w);
+/* The mesh of ntri triangles of welded ids (tris: 3*ntri, owned by the
+ * result, or freed on failure) over w's points: keeps the points they use,
+ * in order of first use, and counts the topology, bounds and signed volume.
+ * nraw: vertices before welding; zero_area_tris: triangles dropped as
+ * degenerate so far. VP_OK or VP_ERR_OUT_OF_MEMORY; w is left as it was. */
+vp_result vp_mesh_finish(vp_weld *w, uint32_t *tris, size_t ntri, size_t nraw,
+                         size_t zero_area_tris, vp_mesh **out);
+/* "nan", "inf" or "-inf". */
+const char *vp_mesh_nonfinite_name(double v);
 #endif

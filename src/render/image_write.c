@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* A rendered image as PNG (libpng: 8-bit sRGB RGBA, straight alpha), and the
  * choice between PNG and OpenEXR by extension. Written atomically. */
 #include "vdbpack/vdbpack.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Preview renderer: one primary ray a pixel through a uniform grid (3D-DDA)
  * over the particles, spheres solved in closed form and polyhedra by
  * clipping the ray against their face planes (and the cut plane), lit by a

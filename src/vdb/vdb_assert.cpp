@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // OpenVDB's failed internal assertions as exceptions, while vdbpack is
 // inside one of its guarded OpenVDB calls (vpv::guard).
 //
@@ -7,7 +8,12 @@
 // This definition interposes glibc's __assert_fail for the whole process:
 // inside a guarded call it throws, the guard maps the exception to one error
 // line ("the file is corrupt"); anywhere else it reports and aborts exactly
-// as glibc does. Deliberately without <assert.h> in this file: glibc
+// as glibc does. The shared library exports it (cmake/vdbpack.map): it
+// interposes glibc's in programs linked to libvdbpack, the command-line
+// tool among them; where the library is loaded later with dlopen (Python's
+// ctypes), glibc's comes first, and the child process that reads every
+// .vdb file first (src/api/probe.c) reports such a file as a reader crash.
+// Deliberately without <assert.h> in this file: glibc
 // declares __assert_fail noexcept, and this one must be able to throw.
 #include <cstdio>
 #include <cstdlib>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The extern "C" interface of the only C++ layer: everything that touches
  * OpenVDB goes through these functions. No C++ exception crosses this
  * boundary: every function catches everything and returns a code with a

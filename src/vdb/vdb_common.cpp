@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared plumbing of the C++ layer: initialisation, messages, exception
 // mapping, file checks, metadata and deterministic output.
 // OpenVDB's own log messages (log4cplus, e.g. "WARN: f.vdb has more than one

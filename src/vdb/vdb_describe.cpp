@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Text / JSON description of a .vdb file: metadata, grids, points.
 #include "vdb/vdb_internal.hpp"
 

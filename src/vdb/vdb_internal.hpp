@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private helpers shared by the src/vdb/*.cpp files (the only C++ layer).
 // Not part of any public interface.
 #ifndef VDBPACK_VDB_INTERNAL_HPP

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Level sets: read, write, sample, gradient, destroy.
 #include "vdb/vdb_internal.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Level sets: the coarse block map (which 8^3 blocks hold a leaf, and the
 // tile value of those that do not), from which the core builds its depth
 // map (src/core/depth_map.c).

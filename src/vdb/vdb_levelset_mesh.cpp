@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Level sets from closed triangle meshes (openvdb::tools::meshToVolume).
 #include "vdb/vdb_internal.hpp"
 

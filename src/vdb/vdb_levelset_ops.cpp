@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Level sets: interior band check/rebuild and info (measure, leak test).
 #include "vdb/vdb_internal.hpp"
 

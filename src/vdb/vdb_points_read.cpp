@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // OpenVDB PointDataGrid -> particles (P, pscale, orient, groups; in id order).
 #include "vdb/vdb_internal.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Particles -> OpenVDB PointDataGrid "points" (P, pscale, id, orient, groups).
 #include "vdb/vdb_internal.hpp"
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The bad-input suite (issue 4): every case runs the vdbpack CLI on one bad
 # input and asserts a non-zero exit status (1 or 2, never a crash), exactly
 # one line on stderr that names the file or option and the problem, and that

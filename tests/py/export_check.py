@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Independent checks of vdbpack's PLY, CSV and OBJ exports (tests/sh_export.sh).
 
 Parses the binary PLY header and data itself (struct/numpy), the CSV with

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Enclosed volume of an OBJ mesh (divergence theorem over fan-triangulated
 faces), computed independently of vdbpack.  Prints the absolute volume."""
 import sys

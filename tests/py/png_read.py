@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """A small PNG reader that shares no code with vdbpack's writer (zlib +
 struct, chunk CRCs checked, filters undone), for the tests.
 read(path) -> (w, h, rows) with rows[y] a bytearray of RGBA.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Independent checks of a random (rsa/relax) sphere packing, from PLY files
 that OpenVDB's vdb_tool extracted after vdb_ax rewrote P (no vdbpack code):
   x.ply: P = (x, id, 0)   y.ply: P = (y, id, 0)   z.ply: P = (z, id, 0)

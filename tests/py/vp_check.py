@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Independent checks of vdbpack output for the tests/sh_*.sh scripts.
 
 Reads only files produced by OpenVDB's own tools (PLY from `vdb_tool

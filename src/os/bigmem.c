@@ -1,6 +1,7 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See bigmem.h. */
 #define _DEFAULT_SOURCE /* madvise */
-#include "core/bigmem.h"
+#include "os/bigmem.h"
 
 #include <stdint.h>
 

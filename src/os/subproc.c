@@ -1,5 +1,6 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* See subproc.h. */
-#include "core/subproc.h"
+#include "os/subproc.h"
 
 #include <signal.h>
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Small pieces for running third-party readers in a forked child (Assimp's
  * importer in src/mesh/isolate.c, OpenVDB's file reader in src/api/probe.c):
  * whole-buffer pipe I/O with a deadline. Internal. */

@@ -1,6 +1,8 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Atomic file output; see atomic.h. */
-#include "api/atomic.h"
-#include "core/context.h"
+#include "os/atomic.h"
+
+#include <stdarg.h>
 
 #include <errno.h>
 #include <fcntl.h>
@@ -11,6 +13,20 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+/* Records a failure's message in a->err and returns r. */
+static vp_result fail(vp_atomic *a, vp_result r, const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static vp_result fail(vp_atomic *a, vp_result r, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(a->err, sizeof a->err, fmt, ap);
+    va_end(ap);
+    return r;
+}
 
 /* Temporary files of writes in progress, for vp_remove_partial_outputs()
  * in a signal handler: fixed slots, claimed and released atomically, so the
@@ -88,16 +104,16 @@ void vp_remove_output(const char *path) {
     if (vp_output_file(path, file, sizeof file)) unlink(file);
 }
 
-vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
+vp_result vp_os_atomic_begin(vp_atomic *a, const char *path) {
     memset(a, 0, sizeof *a);
     a->slot = -1;
-    if (!path || !*path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no output path given");
+    if (!path || !*path) return fail(a, VP_ERR_INVALID_ARGUMENT, "no output path given");
     size_t n = strlen(path);
     if (n >= sizeof a->final_path - 32)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
+        return fail(a, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output: it is a directory", path);
+        return fail(a, VP_ERR_IO, "%s: cannot write output: it is a directory", path);
     char target[4096];
     /* a device or FIFO (the kernel follows any links: /dev/stdout names a
      * pipe through /proc) is written through: -o /dev/null must not
@@ -108,7 +124,7 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
     } else {
         /* a link is followed: renaming onto it would replace the link */
         int e = follow_links(path, target, sizeof a->final_path - 32);
-        if (e) return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
+        if (e) return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
     }
     n = strlen(target);
     memcpy(a->final_path, target, n + 1);
@@ -124,7 +140,7 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
         strcpy(dir, ".");
     }
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output: directory %s does not exist",
+        return fail(a, VP_ERR_IO, "%s: cannot write output: directory %s does not exist",
                        path, dir);
     int w;
     if (a->through) { /* not beside a device: /dev may not take files */
@@ -136,13 +152,13 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
                      slash ? slash + 1 : path);
     if (w < 0 || (size_t)w >= sizeof a->tmp_path) {
         a->tmp_path[0] = 0;
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
+        return fail(a, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
     }
     int fd = mkstemp(a->tmp_path);
     if (fd < 0) {
         int e = errno;
         a->tmp_path[0] = 0;
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
+        return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
     }
     close(fd);
     temp_register(a);
@@ -151,20 +167,20 @@ vp_result vp_atomic_begin(vp_context *ctx, const char *path, vp_atomic *a) {
 
 /* Copies the finished temporary file into a target that is not a regular
  * file, then removes it. A short write (ENOSPC from /dev/full) is an error. */
-static vp_result copy_through(vp_context *ctx, vp_atomic *a) {
+static vp_result copy_through(vp_atomic *a) {
     int in = open(a->tmp_path, O_RDONLY);
     int out = in < 0 ? -1 : open(a->final_path, O_WRONLY);
     int e = errno;
     vp_result r = VP_OK;
     if (in < 0 || out < 0) {
-        r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(e));
+        r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(e));
     } else {
         char buf[1 << 16];
         ssize_t got;
         while (r == VP_OK && (got = read(in, buf, sizeof buf)) != 0) {
             if (got < 0) {
                 if (errno == EINTR) continue;
-                r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
+                r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
                             strerror(errno));
                 break;
             }
@@ -172,7 +188,7 @@ static vp_result copy_through(vp_context *ctx, vp_atomic *a) {
                 ssize_t w = write(out, buf + off, (size_t)(got - off));
                 if (w < 0 && errno == EINTR) continue;
                 if (w <= 0)
-                    r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
+                    r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
                                 strerror(w < 0 ? errno : ENOSPC));
                 else
                     off += w;
@@ -180,20 +196,20 @@ static vp_result copy_through(vp_context *ctx, vp_atomic *a) {
         }
     }
     if (out >= 0 && close(out) != 0 && r == VP_OK)
-        r = vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
+        r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
                     strerror(errno));
     if (in >= 0) close(in);
-    vp_atomic_abort(a);
+    vp_os_atomic_abort(a);
     return r;
 }
 
-vp_result vp_atomic_commit(vp_context *ctx, vp_atomic *a) {
+vp_result vp_os_atomic_commit(vp_atomic *a) {
     struct stat st;
     if (stat(a->tmp_path, &st) != 0 || st.st_size == 0) {
-        vp_atomic_abort(a);
-        return vp_fail(ctx, VP_ERR_IO, "%s: writing failed (nothing was written)", a->final_path);
+        vp_os_atomic_abort(a);
+        return fail(a, VP_ERR_IO, "%s: writing failed (nothing was written)", a->final_path);
     }
-    if (a->through) return copy_through(ctx, a);
+    if (a->through) return copy_through(a);
     /* mkstemp makes 0600 files; outputs should follow the umask like any file */
     mode_t um = umask(0);
     umask(um);
@@ -201,14 +217,14 @@ vp_result vp_atomic_commit(vp_context *ctx, vp_atomic *a) {
     temp_release(a);
     if (rename(a->tmp_path, a->final_path) != 0) {
         int e = errno;
-        vp_atomic_abort(a);
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(e));
+        vp_os_atomic_abort(a);
+        return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(e));
     }
     a->tmp_path[0] = 0;
     return VP_OK;
 }
 
-void vp_atomic_abort(vp_atomic *a) {
+void vp_os_atomic_abort(vp_atomic *a) {
     if (a) temp_release(a);
     if (a && a->tmp_path[0]) {
         unlink(a->tmp_path);

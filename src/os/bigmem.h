@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Memory hints for large arrays read at random. Internal to the core. */
 #ifndef VDBPACK_CORE_BIGMEM_H
 #define VDBPACK_CORE_BIGMEM_H
