@@ -1,0 +1,528 @@
+# SPDX-License-Identifier: Apache-2.0
+"""vdbpack.pack: the command line's `vdbpack pack` options as keyword
+arguments, with its defaults and its checks (src/cli/pack.c:
+parse_pack, check_method_options), so that the same options give the same
+particles."""
+import ctypes
+import math
+import os
+import re
+
+import numpy as np
+
+from . import _arrays
+from . import _call
+from . import _container
+from . import _errors
+from . import _lib
+from ._container import Container, MeshShape
+from ._lib import lib
+from ._packing import Packing, Report, shape_name, _SHAPE_IDS
+
+FLT_MIN = 1.1754943508222875e-38
+FLT_MAX = 3.4028234663852886e+38
+
+METHODS = ("lattice", "rsa", "relax")
+# the options of each method; the others are common to all three
+_BY_METHOD = {
+    "lattice": ("radius", "count", "lattice", "offsets", "rotate", "rotations"),
+    "rsa": ("radius", "count", "passes", "retries", "grow", "orient", "overlap"),
+    "relax": ("radius", "count", "target_fraction", "tolerance", "max_sweeps"),
+}
+_COMMON = ("shape", "fit", "seed", "threads", "max_memory", "progress")
+_LOAD = ("voxel_size", "inside", "iso", "grid")
+_ALL = set(_COMMON) | set(_LOAD) | {k for v in _BY_METHOD.values() for k in v} | {"allow_open"}
+_GROUP_NAME = re.compile(r"^(?!__)[A-Za-z0-9_]{1,31}$")
+
+
+def _size_dist(value, opt):
+    """A radius or a distribution ("uniform:A:B", "lognormal:MEAN:SD",
+    "list:R1:R2:...") as a vp_size_dist, parsed by the library as the
+    command line parses its text (same checks, same messages)."""
+    if isinstance(value, str):
+        text = value
+    elif isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError("%s must be a number or a distribution such as 'uniform:0.01:0.02', "
+                        "not %r" % (opt, value))
+    else:
+        text = repr(float(value))  # shortest text that strtod reads back to the same double
+    d = _lib.vp_size_dist()
+    b = _arrays.text(text, opt)
+    try:
+        _call.quick(lambda ctx: lib.vp_size_dist_parse(ctx, b, ctypes.byref(d)))
+    except _errors.InvalidArgumentError as e:
+        raise _errors.InvalidArgumentError("%s: %s" % (opt, e.message), e.code) from None
+    return d
+
+
+def _dist_text(d):
+    buf = ctypes.create_string_buffer(256)
+    lib.vp_size_dist_format(ctypes.byref(d), buf, 256)
+    return buf.value.decode()
+
+
+def _parse_pass_text(text):
+    """'count=N|max,radius=R[,retries=K][,grow][,name=G]' as a dict."""
+    out = {}
+    for tok in text.split(","):
+        if not tok:
+            raise ValueError("pass '%s': empty field (a stray comma)" % text)
+        key, eq, val = tok.partition("=")
+        if key not in ("count", "radius", "retries", "grow", "name"):
+            raise ValueError("pass '%s': unknown field '%s' (count, radius, retries, grow, name)"
+                             % (text, key))
+        if key in out:
+            raise ValueError("pass '%s': %s is given twice" % (text, key))
+        if key == "grow":
+            if eq:
+                raise ValueError("pass '%s': grow takes no value" % text)
+            out[key] = True
+        elif key == "count":
+            if val == "max":
+                out[key] = "max"
+            elif re.fullmatch(r"[0-9]+", val or ""):
+                out[key] = int(val)
+            else:
+                raise ValueError("pass '%s': count must be a whole number > 0 or 'max', not '%s'"
+                                 % (text, val))
+        elif key == "retries":
+            if not re.fullmatch(r"[0-9]+", val or ""):
+                raise ValueError("pass '%s': retries must be a whole number in 1..1e9, not '%s'"
+                                 % (text, val))
+            out[key] = int(val)
+        else:
+            if not eq:
+                raise ValueError("pass '%s': %s needs a value" % (text, key))
+            out[key] = val
+    return out
+
+
+def _rsa_pass(spec, k, retries):
+    """One pass (a dict or the command line's text) as a vp_rsa_pass."""
+    where = "passes[%d]" % k
+    if isinstance(spec, str):
+        spec = _parse_pass_text(spec)
+    if not isinstance(spec, dict):
+        raise TypeError("%s must be a dict (count=, radius=, retries=, grow=, name=) or "
+                        "'count=N,radius=R,...', not %r" % (where, spec))
+    for key in spec:
+        if key not in ("count", "radius", "retries", "grow", "name"):
+            raise ValueError("%s: unknown field '%s' (count, radius, retries, grow, name)"
+                             % (where, key))
+    if spec.get("count") is None or spec.get("radius") is None:
+        raise ValueError("%s needs count (a whole number > 0, or 'max') and radius" % where)
+    ps = _lib.vp_rsa_pass()
+    lib.vp_rsa_pass_init(ctypes.byref(ps))
+    count = spec["count"]
+    if count == "max":
+        ps.maximal = 1
+    else:
+        if isinstance(count, str):
+            raise ValueError("%s: count must be a whole number > 0 or 'max', not %r"
+                             % (where, count))
+        ps.count = _arrays.whole(count, where + " count", 1, (1 << 64) - 1)
+    ps.radius = _size_dist(spec["radius"], where + " radius")
+    r = spec.get("retries")
+    if r is not None:
+        ps.retries = _arrays.whole(r, where + " retries", 1, 1000000000)
+    elif retries:
+        ps.retries = retries
+    grow = spec.get("grow", False)
+    if not isinstance(grow, (bool, np.bool_)):
+        raise TypeError("%s: grow must be True or False, not %r" % (where, grow))
+    ps.grow = 1 if grow else 0
+    name = spec.get("name")
+    if name is not None:
+        if not isinstance(name, str) or not _GROUP_NAME.match(name):
+            raise ValueError("%s: name must be 1-31 letters, digits or _, not starting with __, "
+                             "not %r" % (where, name))
+        ps.name = name.encode()
+    if ps.maximal and ps.radius.kind != 0:
+        raise ValueError("pass %d: count='max' needs a single radius, not a distribution"
+                         % (k + 1))
+    return ps
+
+
+def _group(ps, k):
+    return ps.name.decode() or "pass%d" % (k + 1)
+
+
+def _resolve_shape(shape, threads, progress):
+    """(vp_shape id, MeshShape or None) for shape=."""
+    if isinstance(shape, MeshShape):
+        return _lib.VP_SHAPE_MESH, shape
+    if isinstance(shape, str) and shape in _lib.SHAPES:
+        return _lib.SHAPES.index(shape), None
+    if isinstance(shape, os.PathLike) or (isinstance(shape, str) and
+                                          ("." in shape or "/" in shape)):
+        return _lib.VP_SHAPE_MESH, MeshShape.from_file(shape, threads=threads, progress=progress)
+    if isinstance(shape, str):
+        raise ValueError("unknown shape '%s' (sphere, tetrahedron, cube, octahedron, "
+                         "dodecahedron, icosahedron, a closed mesh file such as shape.obj, or a "
+                         "vdbpack.MeshShape)" % shape)
+    raise TypeError("shape must be a name, a mesh file or a vdbpack.MeshShape, not %r" % (shape,))
+
+
+def _call_text(container, method, options):
+    args = [repr(container.name if isinstance(container, Container) else
+                 os.fsdecode(os.fspath(container)))]
+    args.append("method=%r" % method)
+    for k, v in options.items():
+        if k in ("threads", "progress"):
+            continue
+        if isinstance(v, MeshShape):
+            v = v.name
+        args.append("%s=%r" % (k, v))
+    return "vdbpack.pack(%s)" % ", ".join(args)
+
+
+def pack(container, method="lattice", **options):
+    """Fills a container with particles; returns a Packing.
+
+    container: a Container, or a path to a mesh or .vdb level set, or
+    'box:X,Y,Z' / 'sphere:R' (centred at the origin; a file of that name
+    wins), which pack() loads itself exactly as `vdbpack pack` does, so
+    that the same options give the command line's particles.
+
+    method: "lattice" (default), "rsa" (random sequential addition, in
+    passes) or "relax" (relaxation, spheres).
+
+    Options (as `vdbpack pack --help`; None means not given):
+
+    - all methods: shape ("sphere" default, "tetrahedron", "cube",
+      "octahedron", "dodecahedron", "icosahedron", a closed mesh file or a
+      MeshShape (rsa)), fit ("inside" default, or "center"), seed (1),
+      threads (default all cores; results do not depend on it),
+      max_memory (bytes or "8G"), progress (callable(fraction, stage);
+      returning False cancels: CancelledError);
+    - a container given as a path: voxel_size, inside ("auto", "closed",
+      "winding"), iso, grid;
+    - lattice: radius or count, lattice ("sc", "bcc", "fcc", "hcp",
+      "densest"), offsets, rotate, rotations;
+    - rsa: passes (a list of dicts with count (N or "max"), radius (a
+      number or a distribution string), retries, grow, name; or the command
+      line's 'count=N,radius=R,grow' texts), or for one pass radius with
+      count (N or "max") and grow; retries; orient ("random", "fixed") and
+      overlap ("exact", "bbox") for solids;
+    - relax: radius (a number or a distribution), count, target_fraction,
+      tolerance, max_sweeps.
+    """
+    if not isinstance(method, str) or method not in METHODS:
+        raise ValueError("unknown method %r (lattice, rsa, relax)" % (method,))
+    for k in options:
+        if k not in _ALL:
+            raise TypeError("pack() got an unexpected keyword argument '%s'" % k)
+    given = {k: v for k, v in options.items() if v is not None}
+    if "allow_open" in given:
+        _container.container_params(_lib.vp_container_params(), [], allow_open=True)
+    for k in given:
+        takers = [m for m in METHODS if k in _BY_METHOD[m]]
+        if takers and method not in takers:
+            raise ValueError("%s goes with method=%s (not method=%r)"
+                             % (k, " or ".join("%r" % m for m in takers), method))
+    threads = _call.check_threads(given.get("threads"))
+    max_memory = _call.check_max_memory(given.get("max_memory"))
+    progress = _call.check_progress(given.get("progress"))
+    fit = _arrays.choice(given.get("fit", "inside"), "fit", _lib.FITS)
+    seed = _arrays.whole(given.get("seed", 1), "seed", 0, (1 << 64) - 1)
+    shape_opt = given.get("shape", "sphere")
+
+    # -- the method's options, checked as check_method_options does -------
+    shape_id = _lib.SHAPES.index(shape_opt) if isinstance(shape_opt, str) and \
+        shape_opt in _lib.SHAPES else None
+    is_mesh = shape_id is None
+    if is_mesh and method != "rsa":
+        if isinstance(shape_opt, str) and "." not in shape_opt and "/" not in shape_opt:
+            _resolve_shape(shape_opt, threads, progress)  # the unknown name's message
+        raise ValueError("a mesh shape (%s) packs with method='rsa' in this version"
+                         % (shape_opt.name if isinstance(shape_opt, MeshShape) else shape_opt,))
+    if method == "relax" and shape_id not in (None, 0):
+        raise ValueError("method='relax' packs spheres in this version (shape=%r needs "
+                         "method='lattice' or 'rsa')" % shape_opt)
+    orient = given.get("orient")
+    overlap = given.get("overlap")
+    if (orient is not None or overlap is not None) and shape_id == 0:
+        raise ValueError("orient and overlap go with method='rsa' and a shape other than sphere")
+    orient = -1 if orient is None else _arrays.choice(orient, "orient", _lib.ORIENTS)
+    overlap = -1 if overlap is None else _arrays.choice(overlap, "overlap", _lib.OVERLAPS)
+    if overlap == 1 and orient == 0:
+        raise ValueError("overlap='bbox' needs orient='fixed' (the axis-aligned box of a "
+                         "rotated solid does not bound it)")
+    if overlap < 0:
+        overlap = 0
+    if orient < 0:
+        orient = 1 if overlap == 1 else 0
+
+    has_radius, has_count = "radius" in given, "count" in given
+    mesh = None
+    if method == "lattice":
+        lp = _lib.vp_lattice_params()
+        lib.vp_lattice_params_init(ctypes.byref(lp))
+        lat = _arrays.choice(given["lattice"], "lattice", _lib.LATTICES) \
+            if "lattice" in given else _lib.VP_LATTICE_DEFAULT
+        if has_radius and has_count:
+            raise ValueError("give either radius or count, not both")
+        if not has_radius and not has_count:
+            raise ValueError("give the particle size with radius=R or count=N")
+        if has_radius:
+            r = given["radius"]
+            if isinstance(r, str) or isinstance(r, bool) or \
+                    not isinstance(r, (int, float, np.integer, np.floating)):
+                raise ValueError("radius must be a positive number for method='lattice', not %r"
+                                 % (r,))
+            r = float(r)
+            if not r > 0 or not math.isfinite(r):
+                raise ValueError("radius must be a positive number, not %r" % (given["radius"],))
+            if not r >= FLT_MIN:
+                raise ValueError("radius %r: a radius must be at least 1.2e-38 (radii are "
+                                 "stored as float)" % (given["radius"],))
+            if not r <= FLT_MAX:
+                raise ValueError("radius %r: a radius must be at most 3.4e38 (radii are "
+                                 "stored as float)" % (given["radius"],))
+            lp.radius = r
+        else:
+            if given["count"] == "max":
+                raise ValueError("count='max' goes with method='rsa'")
+            lp.count = _arrays.whole(given["count"], "count", 1, (1 << 64) - 1)
+        if shape_id == 0 and lat == _lib.VP_LATTICE_DENSEST:
+            lat = _lib.VP_LATTICE_FCC
+        if shape_id != 0 and lat not in (_lib.VP_LATTICE_DEFAULT, _lib.VP_LATTICE_DENSEST):
+            raise ValueError("lattice=%r is for spheres; a %s packs on its densest lattice "
+                             "(lattice='densest')" % (given["lattice"], shape_opt))
+        lp.shape, lp.lattice, lp.fit, lp.seed = shape_id, lat, fit, seed
+        if "offsets" in given:
+            lp.offsets = _arrays.whole(given["offsets"], "offsets", 1, 1000000)
+        if "rotations" in given:
+            lp.rotations = _arrays.whole(given["rotations"], "rotations", 1, 100000)
+            lp.rotate = 1
+        if given.get("rotate"):
+            lp.rotate = 1
+        params, keep = lp, []
+        label = [k for k, v in _lib.LATTICES.items() if v == (
+            lat if lat else (_lib.VP_LATTICE_FCC if shape_id == 0 else _lib.VP_LATTICE_DENSEST))][0]
+    elif method == "rsa":
+        if "passes" in given and (has_radius or has_count):
+            raise ValueError("give either passes or radius with count (one pass), not both")
+        retries = 0
+        if "retries" in given:
+            retries = _arrays.whole(given["retries"], "retries", 1, 1000000000)
+        if "passes" in given:
+            if given.get("grow"):
+                raise ValueError("with passes, ask for growth in the pass ({'count': N, "
+                                 "'radius': R, 'grow': True})")
+            specs = given["passes"]
+            if isinstance(specs, (str, dict)):
+                specs = [specs]
+            try:
+                specs = list(specs)
+            except TypeError:
+                raise TypeError("passes must be a list of passes, not %r" % (specs,)) from None
+            if not 1 <= len(specs) <= _lib.VP_MAX_GROUPS:
+                raise ValueError("passes must hold 1 to %d passes, not %d"
+                                 % (_lib.VP_MAX_GROUPS, len(specs)))
+        else:
+            if not has_radius or not has_count:
+                raise ValueError("method='rsa' needs passes=[{'count': N, 'radius': R}, ...] or "
+                                 "radius=R with count=N (or count='max')")
+            specs = [{"count": given["count"], "radius": given["radius"],
+                      "grow": bool(given.get("grow", False))}]
+            if not isinstance(given.get("grow", False), (bool, np.bool_)):
+                raise TypeError("grow must be True or False, not %r" % (given["grow"],))
+        passes = (_lib.vp_rsa_pass * len(specs))()
+        for k, s in enumerate(specs):
+            passes[k] = _rsa_pass(s, k, retries)
+        for i in range(len(specs)):
+            for k in range(i):
+                if _group(passes[k], k) == _group(passes[i], i):
+                    raise ValueError("passes %d and %d would both be group '%s'; give each pass "
+                                     "its own name" % (k + 1, i + 1, _group(passes[i], i)))
+        rp = _lib.vp_rsa_params()
+        lib.vp_rsa_params_init(ctypes.byref(rp))
+        rp.fit, rp.orient, rp.overlap, rp.seed = fit, orient, overlap, seed
+        rp.passes = passes
+        rp.npasses = len(specs)
+        params, keep = rp, [passes]
+    else:
+        if not has_radius or not has_count:
+            raise ValueError("method='relax' needs radius (a number or a distribution) and "
+                             "count=N")
+        xp = _lib.vp_relax_params()
+        lib.vp_relax_params_init(ctypes.byref(xp))
+        xp.fit, xp.seed = fit, seed
+        if given["count"] == "max":
+            raise ValueError("count='max' goes with method='rsa'")
+        xp.count = _arrays.whole(given["count"], "count", 1, (1 << 64) - 1)
+        xp.radius = _size_dist(given["radius"], "radius")
+        if "target_fraction" in given:
+            tf = _arrays.number(given["target_fraction"], "target_fraction")
+            if not 0 < tf < 1:
+                raise ValueError("target_fraction must be a number in (0, 1), not %r" % tf)
+            xp.target_fraction = tf
+        if "tolerance" in given:
+            tol = _arrays.number(given["tolerance"], "tolerance")
+            if not 0 < tol < 0.1:
+                raise ValueError("tolerance must be a number in (0, 0.1), not %r" % tol)
+            xp.tolerance = tol
+        if "max_sweeps" in given:
+            xp.max_sweeps = _arrays.whole(given["max_sweeps"], "max_sweeps", 0, (1 << 31) - 1)
+        params, keep = xp, []
+
+    # -- the particle shape first: a bad shape file fails before a long
+    # voxelization (as the command line)
+    if method == "rsa":
+        sid, mesh = _resolve_shape(shape_opt, threads, progress)
+        params.shape = sid
+        params.mesh = mesh._ptr.value if mesh is not None else None
+        shape_id = sid
+
+    # -- the container ------------------------------------------------------
+    load = {k: given[k] for k in _LOAD if k in given}
+    watch = ()
+    if isinstance(container, Container):
+        if load:
+            raise ValueError("%s are for loading a container from a file: pass them to "
+                             "Container.from_file, or give pack() the path"
+                             % ", ".join(sorted(load)))
+        cont, cname, watch = container, container.name, (container,)
+    else:
+        spec = os.fsdecode(os.fspath(container)) if not isinstance(container, str) else container
+        if not spec:
+            raise ValueError("no container given")
+        a = None if os.path.exists(spec) else _container.parse_analytic(spec)
+        if a is not None:
+            if load:
+                raise ValueError("voxel_size, grid, inside and iso need a mesh or .vdb "
+                                 "container, not '%s'" % spec)
+            cont = _container._analytic(a, spec)
+        else:
+            cp = _lib.vp_container_params()
+            lib.vp_container_params_init(ctypes.byref(cp))
+            ckeep = []
+            _container.container_params(cp, ckeep, **load)
+            if method == "lattice":
+                lib.vp_container_params_for_lattice(ctypes.byref(cp), ctypes.byref(params))
+            elif method == "rsa":
+                lib.vp_container_params_for_rsa(ctypes.byref(cp), ctypes.byref(params))
+            else:
+                lib.vp_container_params_for_relax(ctypes.byref(cp), ctypes.byref(params))
+            cont = _container._load(_arrays.path(spec), cp, os.path.basename(spec),
+                                    load.get("inside", "auto"), threads, max_memory, progress)
+        cname = os.path.basename(spec) if "/" in spec else spec
+    ci = cont._info
+
+    if method == "lattice" and params.count:
+        f = lib.vp_lattice_fraction(params.shape, params.lattice)
+        rc = (ci["volume"] * f / (params.count * lib.vp_shape_unit_volume(params.shape))) \
+            ** (1.0 / 3.0) if ci["volume"] > 0 and f > 0 else 0.0
+        if not rc >= FLT_MIN:
+            raise ValueError("count %d in %s gives a radius of about %g, below 1.2e-38 (radii "
+                             "are stored as float): ask for fewer particles"
+                             % (params.count, cname, rc))
+
+    # -- packing --------------------------------------------------------------
+    out = ctypes.POINTER(_lib.vp_particles)()
+    fn = {"lattice": lib.vp_pack_lattice, "rsa": lib.vp_pack_rsa, "relax": lib.vp_pack_relax}
+    rep = {"lattice": _lib.vp_lattice_report, "rsa": _lib.vp_rsa_report,
+           "relax": _lib.vp_relax_report}[method]()
+    try:
+        try:
+            _call.run(lambda ctx: fn[method](ctx, cont._ptr, ctypes.byref(params),
+                                             ctypes.byref(out), ctypes.byref(rep)),
+                      threads, max_memory, progress, watch)
+        except _errors.InvalidArgumentError as e:
+            if not (isinstance(container, Container) and "interior band" in e.message):
+                raise
+            # a Container loaded without the job's particle size: say how to
+            # load it (pack() sizes the band itself when given the path)
+            raise _errors.InvalidArgumentError(
+                "%s (load it with the largest particle radius: Container.from_file(..., "
+                "particle_radius=R) or from_mesh(..., particle_radius=R), or give pack() the "
+                "path)" % e.message, e.code) from None
+        packing = Packing._from_c(out, mesh)
+        volume = lib.vp_particles_volume(out)
+    finally:
+        lib.vp_particles_destroy(out)
+    del keep
+
+    # -- report and metadata, as the command line's --json and .vdb --------
+    r = Report(method=method, shape=shape_name(shape_id), fit="inside" if fit == 0 else "center",
+               seed=seed, count=len(packing))
+    if method == "lattice":
+        if not rep.radius >= FLT_MIN:
+            raise ValueError("count %d in %s gives a radius of %g, below 1.2e-38 (radii are "
+                             "stored as float): ask for fewer particles"
+                             % (params.count, cname, rep.radius))
+        r.update(lattice=label, radius=rep.radius, lattice_fraction=rep.lattice_fraction,
+                 offsets_tried=rep.offsets_tried, rotations_tried=rep.rotations_tried,
+                 radius_iterations=rep.radius_iterations, offset=tuple(rep.offset),
+                 rotation=tuple(rep.rotation), requested_count=params.count,
+                 seconds=rep.seconds)
+        max_radius = rep.radius
+    else:
+        max_radius = float(packing.radii.max()) if len(packing) else 0.0
+    if method == "rsa":
+        if shape_id != 0:
+            r.update(orient="fixed" if orient == 1 else "random",
+                     overlap="bbox" if overlap == 1 else "exact")
+        r["passes"] = []
+        for i in range(rep.npasses):
+            pr = rep.passes[i]
+            r["passes"].append(Report(
+                group=packing.group_names[i] if i < len(packing.group_names) else _group(
+                    params.passes[i], i),
+                radius=_dist_text(params.passes[i].radius), requested=pr.requested,
+                maximal=bool(params.passes[i].maximal), placed=pr.placed,
+                stop=_lib.RSA_STOPS[pr.stop] if 0 <= pr.stop < 3 else str(pr.stop),
+                tries=pr.tries, pretested=pr.pretested, cell_budget_reached=bool(pr.budget_hit),
+                grow=bool(params.passes[i].grow), grow_mean=pr.grow_mean, seconds=pr.seconds,
+                retries=params.passes[i].retries or _lib.VP_RSA_DEFAULT_RETRIES))
+        r["seconds"] = rep.seconds
+    elif method == "relax":
+        r.update(radius=_dist_text(params.radius), requested_count=params.count,
+                 target_fraction=params.target_fraction, sweeps=rep.sweeps,
+                 radius_scale=rep.radius_scale, initial_fraction=rep.initial_fraction,
+                 max_overlap=rep.max_overlap, seconds=rep.seconds)
+    fraction = volume / ci["volume"] if ci["volume"] > 0 else 0.0
+    r.update(max_radius=max_radius, particle_volume=volume, container_volume=ci["volume"],
+             packing_fraction=fraction, container=cname, container_kind=ci["kind"],
+             voxel_size=ci["voxel_size"], voxel_reason=ci["voxel_reason"])
+    if mesh is not None:
+        r.update(shape_file=mesh.name, shape_triangles=mesh.triangles)
+
+    md = {
+        "creator": "vdbpack " + _lib.VERSION,
+        "command_line": _call_text(container, method, options),
+        "seed": seed, "method": method, "shape": shape_name(shape_id),
+        "fit": "inside" if fit == 0 else "center", "container": cname,
+        "particle_count": len(packing), "max_radius": max_radius,
+        "container_volume": ci["volume"], "packing_fraction": fraction,
+        "voxel_size": ci["voxel_size"],
+    }
+    if mesh is not None:
+        md["shape_file"] = mesh.name
+    if ci["kind"] == "mesh":
+        md["inside"] = cont._inside or "auto"
+    if "iso" in load:
+        md["iso"] = float(load["iso"])
+    if method == "lattice":
+        md.update(lattice=label, radius=rep.radius)
+    elif method == "rsa":
+        md["passes"] = ";".join(
+            "count=%s,radius=%s,retries=%d%s%s" % (
+                "max" if ps.maximal else ps.count, _dist_text(ps.radius),
+                ps.retries or _lib.VP_RSA_DEFAULT_RETRIES, ",grow" if ps.grow else "",
+                ",name=" + ps.name.decode() if ps.name else "")
+            for ps in params.passes[:params.npasses])
+        if shape_id != 0:
+            md["orient"] = "fixed" if orient == 1 else "random"
+            md["overlap"] = "bbox" if overlap == 1 else "exact"
+    else:
+        md.update(radius=_dist_text(params.radius), target_fraction=params.target_fraction,
+                  radius_scale=rep.radius_scale, max_overlap=rep.max_overlap)
+    packing.report = r
+    packing.metadata = md
+    packing.method = method
+    packing.fraction = fraction
+    packing.container_volume = ci["volume"]
+    packing._full_precision = method != "lattice"
+    return packing
