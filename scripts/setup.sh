@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 
 PKGS=(cmake g++ ninja-build pkg-config
       libopenvdb-dev libboost-iostreams-dev libopenexr-dev libassimp-dev liblog4cplus-dev libpng-dev
-      libopenvdb-tools libopenvdb-ax-tools python3 python3-numpy python3-openvdb)
+      libopenvdb-tools libopenvdb-ax-tools python3 python3-numpy python3-openvdb python3-pytest)
 source scripts/apt_install.sh
 apt_install setup "${PKGS[@]}"
 
