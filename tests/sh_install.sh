@@ -11,7 +11,9 @@
 #  - every public header compiles alone as strict C99 and as C++;
 #  - a C program built through pkg-config and a C++ program built through
 #    find_package(vdbpack) run: they pack, write and read back;
-#  - the installed command-line tool works.
+#  - the installed command-line tool works;
+#  - the installed Python module loads the prefix's library, packs, and
+#    runs the examples of docs/python.md.
 set -euo pipefail
 : "${VP_SRC:?}" "${VP_BUILD:?}" "${VP_CC:?}" "${VP_CXX:?}"
 if [ "${VP_SHARED_LIB:-1}" != 1 ]; then echo "skip: static build"; exit 77; fi
@@ -93,4 +95,37 @@ out=$("$P/bin/vdbpack" --version | head -n 1)
 ldd "$P/bin/vdbpack" | grep libvdbpack | grep -q "$P/" || die "installed vdbpack does not load the installed library"
 "$P/bin/vdbpack" pack box:1,1,1 --radius 0.2 -q -o "$T/t.vdb" || die "installed vdbpack pack failed"
 echo "ok: installed vdbpack $version packs, with its library from the prefix"
+
+# --- the Python module, from the prefix alone (the build tree's copy off
+# PYTHONPATH, no VDBPACK_LIBRARY): it loads the prefix's library through its
+# relative _libpath.py, packs, and the examples of docs/python.md run
+PY=/usr/bin/python3
+pydir=$(find "$P" -path "*/lib/python3*/dist-packages" -type d | sort | sed -n 1p)
+[ -n "$pydir" ] && [ -f "$pydir/vdbpack/__init__.py" ] && [ -f "$pydir/vdbpack/_libpath.py" ] ||
+  die "no lib/python3*/dist-packages/vdbpack (with _libpath.py) under the prefix"
+if ! "$PY" -c 'import numpy' 2>/dev/null; then
+  echo "skip: the Python module's checks ($PY has no numpy)"
+  exit $fail
+fi
+out=$(cd "$T" && env -u VDBPACK_LIBRARY PYTHONPATH="$pydir" PYTHONDONTWRITEBYTECODE=1 "$PY" - "$P" "$version" <<'PYEOF'
+import os, sys
+import vdbpack
+prefix, version = os.path.realpath(sys.argv[1]), sys.argv[2]
+def under(path):
+    return os.path.realpath(path).startswith(prefix + os.sep)
+assert under(vdbpack.__file__), "vdbpack.__file__ %s is not under %s" % (vdbpack.__file__, prefix)
+assert under(vdbpack.library_path()), "the library %s is not under %s" % (
+    vdbpack.library_path(), prefix)
+assert vdbpack.version() == version == vdbpack.__version__, (vdbpack.version(), version)
+p = vdbpack.pack("box:1,1,1", method="rsa", radius=0.1, count=50)
+assert len(p) == 50 and p.check("box:1,1,1").ok
+p.write("py.vdb")
+print("%s %d" % (os.path.realpath(vdbpack.library_path()), len(vdbpack.read("py.vdb"))))
+PYEOF
+) || die "the installed Python module failed"
+echo "ok: installed Python module $version loads ${out% *} and packs"
+examples=$(env -u VDBPACK_LIBRARY PYTHONPATH="$pydir" PYTHONDONTWRITEBYTECODE=1 VDBPACK_PREFIX="$P" \
+  "$PY" "$VP_SRC/tests/python/doc_examples.py" "$VP_SRC/docs/python.md" "$VP_SRC/vdb_samples" \
+  "$T/docs" 2>&1) || { echo "$examples"; die "the examples of docs/python.md failed from the prefix"; }
+echo "${examples##*$'\n'} (from the prefix)"
 exit $fail
