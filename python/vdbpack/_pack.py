@@ -17,7 +17,7 @@ from . import _errors
 from . import _lib
 from ._container import Container, MeshShape
 from ._lib import lib
-from ._packing import Packing, Report, shape_name, _SHAPE_IDS
+from ._packing import Packing, Report, shape_name
 
 FLT_MIN = 1.1754943508222875e-38
 FLT_MAX = 3.4028234663852886e+38
@@ -226,6 +226,9 @@ def pack(container, method="lattice", **options):
     fit = _arrays.choice(given.get("fit", "inside"), "fit", _lib.FITS)
     seed = _arrays.whole(given.get("seed", 1), "seed", 0, (1 << 64) - 1)
     shape_opt = given.get("shape", "sphere")
+    if not isinstance(shape_opt, (str, os.PathLike, MeshShape)):
+        raise TypeError("shape must be a name, a mesh file or a vdbpack.MeshShape, not %r"
+                        % (shape_opt,))
 
     # -- the method's options, checked as check_method_options does -------
     shape_id = _lib.SHAPES.index(shape_opt) if isinstance(shape_opt, str) and \

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import vdbpack
+from conftest import SAMPLES
 
 
 def test_progress_is_reported_from_the_worker():
@@ -69,11 +70,7 @@ def test_an_exception_in_the_callback_is_raised():
     with pytest.raises(Boom, match="from the callback"):
         vdbpack.pack("box:1,1,1", method="rsa", radius=0.03, count=500, progress=progress)
     with pytest.raises(Boom):
-        vdbpack.Container.from_file(os.path.join(os.environ.get("VP_SAMPLES", ""), "peanut.obj")
-                                    if os.environ.get("VP_SAMPLES") else
-                                    os.path.join(os.path.dirname(__file__), "..", "..",
-                                                 "vdb_samples", "peanut.obj"),
-                                    progress=progress)
+        vdbpack.Container.from_file(os.path.join(SAMPLES, "peanut.obj"), progress=progress)
 
 
 def test_a_failing_distance_function_stops_the_call():

@@ -266,6 +266,8 @@ def test_python_side_option_errors(tmp_path):
         vdbpack.pack("box:1,1,1", method="relax", shape="cube", radius=0.1, count=3)
     with pytest.raises(ValueError, match="packs with method='rsa'"):
         vdbpack.pack("box:1,1,1", shape=os.path.join(SAMPLES, "box.obj"), radius=0.1)
+    with pytest.raises(TypeError, match="shape must be"):
+        vdbpack.pack("box:1,1,1", shape=3, radius=0.1)
     with pytest.raises(ValueError, match="unknown shape 'blob'"):
         vdbpack.pack("box:1,1,1", shape="blob", radius=0.1)
     with pytest.raises(ValueError, match="is for spheres"):
