@@ -322,7 +322,8 @@ class Packing:
         grid). fit: "inside" or "center" (default: the metadata's fit, else
         inside). Returns a Report (dict with attribute access) with the
         keys of `vdbpack check --json`: overlapping_pairs, max_overlap,
-        outside, packing_fraction, mean_contacts, ok, ..."""
+        outside, packing_fraction (also as fraction), mean_contacts, ok,
+        ..."""
         for k in load:
             if k not in ("voxel_size", "inside", "iso", "grid"):
                 raise TypeError("check() got an unexpected keyword argument '%s'" % k)
@@ -391,6 +392,7 @@ class Packing:
             ("imprecise", bool(rep.imprecise)), ("outside", rep.outside),
             ("max_outside", rep.max_outside), ("particle_volume", rep.particle_volume),
             ("container_volume", rep.container_volume), ("packing_fraction", rep.fraction),
+            ("fraction", rep.fraction),
             ("contact_pairs", rep.contact_pairs), ("mean_contacts", rep.mean_contacts),
             ("contact_tolerance", cp.contact_tolerance), ("ok", not bad),
             ("seconds", rep.seconds)])

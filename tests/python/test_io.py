@@ -137,6 +137,7 @@ def test_check_agrees_with_the_cli(tmp_path, job):
                 continue
             assert got[key] == value, (key, got[key], value)
     assert got.ok and got.fit == job.get("fit", "inside")
+    assert got.fraction == got.packing_fraction
 
 
 def test_render(tmp_path):
