@@ -239,7 +239,11 @@ typedef struct vp_container_params {
 VP_API void vp_container_params_init(vp_container_params *p);
 
 /* Loads a container from a mesh (anything Assimp reads) or a .vdb level
- * set, chosen by content/extension. *out is owned by the caller. */
+ * set, chosen by content/extension. *out is owned by the caller. A path
+ * that is not a regular file (a FIFO, a device, a directory) gives
+ * VP_ERR_IO at once. The readers run in child processes (see
+ * vp_readers_isolated) bounded by the context's memory limit and cancelled
+ * through its progress callback. */
 VP_API vp_result vp_container_load(vp_context *ctx, const char *path,
                                    const vp_container_params *params, vp_container **out);
 

@@ -7,6 +7,8 @@
 #include "core/container.h"
 #include "core/context.h"
 #include "mesh/mesh.h"
+#include "os/input.h"
+#include "os/subproc.h"
 #include "vdb/vdb_bridge.h"
 
 #include <ctype.h>
@@ -249,7 +251,9 @@ static vp_result load_mesh(vp_context *ctx, const char *path, const vp_container
                            vp_container **out) {
     char err[1024];
     vp_mesh *m = NULL;
-    vp_result r = vp_mesh_load(path, &m, err, sizeof err);
+    vp_subproc_guard guard; /* cancel and --max-memory reach the reader */
+    vp_context_child_guard(ctx, &guard);
+    vp_result r = vp_mesh_load_guarded(path, &guard, &m, err, sizeof err);
     if (r != VP_OK) return vp_fail(ctx, r, "%s", err);
     return voxelize_mesh(ctx, vp_path_base(path), m, pp, 0, out);
 }
@@ -372,9 +376,9 @@ vp_result vp_container_load(vp_context *ctx, const char *path, const vp_containe
     }
     vp_result pr = check_params(ctx, params);
     if (pr != VP_OK) return pr;
-    FILE *f = fopen(path, "rb");
-    if (!f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
-    fclose(f);
+    /* a FIFO or a device would block the readers: one line at once */
+    char msg[1024];
+    if (vp_os_check_input(path, msg, sizeof msg) != 0) return vp_fail(ctx, VP_ERR_IO, "%s", msg);
     vpv_init();
     return looks_like_vdb(path) ? load_vdb(ctx, path, params, out)
                                 : load_mesh(ctx, path, params, out);

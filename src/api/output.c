@@ -6,6 +6,7 @@
 #include "api/probe.h"
 #include "core/context.h"
 #include "core/shape.h"
+#include "os/input.h"
 #include "vdb/vdb_bridge.h"
 
 #include <errno.h>
@@ -62,9 +63,18 @@ static int probe_describe(const void *arg, char *err, size_t errlen) {
     return rc;
 }
 
+/* A FIFO or device would block the reader until its writer comes: refused
+ * with one line at once. */
+static vp_result check_input(vp_context *ctx, const char *path) {
+    char msg[1024];
+    if (vp_os_check_input(path, msg, sizeof msg) != 0) return vp_fail(ctx, VP_ERR_IO, "%s", msg);
+    return VP_OK;
+}
+
 vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out) {
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "out is NULL");
     *out = NULL;
+    if (check_input(ctx, path) != VP_OK) return VP_ERR_IO;
     vpv_init();
     vp_result pr = vp_probe_read(ctx, path, probe_points, path);
     if (pr != VP_OK) return pr;
@@ -76,6 +86,7 @@ vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out) 
 vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out) {
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "out is NULL");
     *out = NULL;
+    if (check_input(ctx, path) != VP_OK) return VP_ERR_IO;
     vpv_init();
     vp_result pr = vp_probe_read(ctx, path, probe_describe, path);
     if (pr != VP_OK) return pr;

@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+
 vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const void *arg) {
 #ifdef VP_SUBPROC_IN_PROCESS
     (void)path;
@@ -43,11 +44,16 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
      * read in-process only, without this guard */
     if (vpv_quiesce_threads() != 0) return VP_OK;
     int fds[2];
-    if (pipe(fds) != 0)
+    if (vp_subproc_pipe(fds) != 0)
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot start the file check (pipe: %s)",
                        vp_path_base(path), strerror(errno));
-    fflush(NULL); /* nothing buffered may be written twice */
-    pid_t pid = fork();
+    /* its own process group, dies with this thread, default signal
+     * actions, stdio on /dev/null (glibc's and OpenVDB's own messages on a
+     * crash would make a second error line), and a runaway allocation ends
+     * the child, not the machine: the context's memory limit */
+    vp_subproc_guard guard;
+    vp_context_child_guard(ctx, &guard);
+    pid_t pid = vp_subproc_fork(&guard);
     if (pid < 0) {
         close(fds[0]);
         close(fds[1]);
@@ -56,18 +62,6 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     }
     if (pid == 0) {
         close(fds[0]);
-        vp_subproc_child_signals();
-        /* the child reports through the pipe only: glibc's and OpenVDB's
-         * own messages on a crash would make a second error line */
-        int devnull = open("/dev/null", O_WRONLY);
-        if (devnull >= 0) dup2(devnull, 2);
-        /* a runaway allocation ends the child, not the machine */
-        long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
-        if (pages > 0 && psz > 0) {
-            struct rlimit rl;
-            rl.rlim_cur = rl.rlim_max = (rlim_t)pages * (rlim_t)psz;
-            setrlimit(RLIMIT_AS, &rl);
-        }
         char err[1024] = "";
         int32_t rc = fn(arg, err, sizeof err);
         uint32_t n = (uint32_t)strlen(err);
@@ -79,6 +73,7 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     close(fds[1]);
     vp_subproc_watch watch;
     vp_subproc_watch_start(&watch, pid, timeout);
+    watch.guard = &guard;
     int32_t rc = 0;
     uint32_t n = 0;
     char msg[1024];
@@ -88,16 +83,18 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     if (rr == 0) rr = vp_subproc_read_all(fds[0], msg, n, &watch);
     close(fds[0]);
     int status = 0;
+    if (rr == 3) {
+        vp_subproc_kill(pid, NULL);
+        return vp_fail(ctx, VP_ERR_CANCELLED, "cancelled");
+    }
     if (rr == 2) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
+        vp_subproc_kill(pid, NULL);
         return vp_fail(ctx, VP_ERR_FORMAT,
                        "%s: OpenVDB's reader did not finish within %.0f s; the file is probably "
                        "corrupt (set VDBPACK_READ_TIMEOUT to allow longer)",
                        vp_path_base(path), timeout);
     }
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    status = vp_subproc_wait(pid);
     if (rr != 0) {
         if (WIFSIGNALED(status))
             return vp_fail(ctx, VP_ERR_FORMAT,

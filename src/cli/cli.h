@@ -42,6 +42,10 @@ const char *vp_cli_shape_plural(int shape);
 /* 1 when a and b name the same file: the same string, or both exist and
  * are the same inode. */
 int vp_cli_same_file(const char *a, const char *b);
+/* At start: a standard descriptor (0, 1, 2) that is closed is opened on
+ * /dev/null, so that no file or pipe opened later takes its number (and
+ * what is printed to it goes nowhere instead of into that file). */
+void vp_cli_std_fds(void);
 /* Strict number parsing: the whole text must be a finite number. */
 int vp_cli_parse_double(const char *s, double *out);
 int vp_cli_parse_u64(const char *s, uint64_t *out);

@@ -163,7 +163,7 @@ static int cmd_info(int argc, char **argv) {
     return status;
 }
 
-int main(int argc, char **argv) {
+static int run_command(int argc, char **argv) {
     if (argc < 2) {
         fputs(MAIN_HELP, stderr);
         return 2;
@@ -195,4 +195,9 @@ int main(int argc, char **argv) {
     if (!strcmp(cmd, "render")) return vp_cli_render(argc - 2, argv + 2);
     if (!strcmp(cmd, "convert")) return vp_cli_convert(argc - 2, argv + 2);
     return vp_cli_die(2, "unknown command '%s' (see vdbpack --help)", cmd);
+}
+
+int main(int argc, char **argv) {
+    vp_cli_std_fds();
+    return run_command(argc, argv);
 }

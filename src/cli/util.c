@@ -4,6 +4,8 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -72,6 +74,17 @@ int vp_cli_same_file(const char *a, const char *b) {
     struct stat sa, sb;
     return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
            sa.st_ino == sb.st_ino;
+}
+
+void vp_cli_std_fds(void) {
+    for (int fd = 0; fd < 3; fd++)
+        if (fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
+            int got = open("/dev/null", fd ? O_WRONLY : O_RDONLY);
+            if (got >= 0 && got != fd) { /* (cannot happen: the lowest is free) */
+                dup2(got, fd);
+                close(got);
+            }
+        }
 }
 
 int vp_cli_parse_double(const char *s, double *out) {

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Context, result names and small process-level helpers. */
 #include "core/context.h"
+#include "os/subproc.h"
+#include "os/text.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -99,6 +101,16 @@ double vp_seconds(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int child_cancelled(void *ctx) {
+    return !vp_report_progress((vp_context *)ctx, 0.0, "reading");
+}
+
+void vp_context_child_guard(vp_context *ctx, vp_subproc_guard *g) {
+    g->cancel = ctx && ctx->progress ? child_cancelled : NULL;
+    g->user = ctx;
+    g->max_bytes = ctx ? ctx->max_memory : 0;
 }
 
 const char *vp_path_base(const char *path) {

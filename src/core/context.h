@@ -32,4 +32,10 @@ const char *vp_path_base(const char *path);
 void vp_format_bytes(double bytes, char *out, size_t outlen);
 /* Monotonic seconds. */
 double vp_seconds(void);
+/* The bounds of a reader child (os/subproc.h) from ctx: its progress
+ * callback as the cancel, polled while the child reads (stage `stage`,
+ * fraction 0), and its memory limit (max_memory; 0, the machine's memory,
+ * when unset). ctx may be NULL. */
+struct vp_subproc_guard;
+void vp_context_child_guard(vp_context *ctx, struct vp_subproc_guard *g);
 #endif

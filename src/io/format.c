@@ -3,13 +3,16 @@
  * vp_import dispatch, and the helpers the writers and readers share. */
 #include "io/io_internal.h"
 #include "core/context.h"
+#include "os/input.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static const char *const k_names[] = {NULL, "vdb", "ply", "csv", "obj"};
 
@@ -144,13 +147,18 @@ vp_result vpio_open(vp_context *ctx, const char *path, vpio_out *o) {
 }
 
 vp_result vpio_open_read(vp_context *ctx, const char *path, FILE **f) {
-    *f = fopen(path, "rb");
-    if (!*f) return vp_fail(ctx, VP_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(*f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(*f);
+    /* without blocking: fopen() of a FIFO waits for its writer */
+    char msg[1024];
+    int fd = vp_os_open_input(path, msg, sizeof msg);
+    if (fd < 0) {
         *f = NULL;
-        return vp_fail(ctx, VP_ERR_IO, "%s: not a regular file", path);
+        return vp_fail(ctx, VP_ERR_IO, "%s", msg);
+    }
+    *f = fdopen(fd, "rb");
+    if (!*f) {
+        int e = errno;
+        close(fd);
+        return vp_fail(ctx, VP_ERR_IO, "%s: cannot open (%s)", path, strerror(e));
     }
     return VP_OK;
 }

@@ -6,6 +6,7 @@
  * vp_mesh back through a pipe; the parent enforces a deadline and reports
  * how the child ended. */
 #include "mesh/isolate.h"
+#include "core/context.h"
 #include "os/subproc.h"
 
 #include <errno.h>
@@ -41,22 +42,38 @@ int vp_readers_isolated(void)
 #endif
 }
 
-static void child_main(int fd, vp_mesh_import_fn fn, const void *arg)
+/* The child's memory bound, for messages: "4.0 GB". */
+static void bound_text(const vp_subproc_guard *g, char *out, size_t len)
 {
-#if !defined(VP_NO_IMPORT_RLIMIT)
-    /* Bound a runaway allocation to the machine's memory, not beyond it:
-     * the parent reports the child's death as a failed import. */
-    long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
-    if (pages > 0 && psz > 0) {
-        struct rlimit rl;
-        rl.rlim_cur = rl.rlim_max = (rlim_t)pages * (rlim_t)psz;
-        setrlimit(RLIMIT_AS, &rl);
-    }
-#endif
-    vp_subproc_child_signals();
+    vp_format_bytes((double)(g && g->max_bytes ? g->max_bytes : 0), out, len);
+}
+
+/* Runs in the child (vp_subproc_fork has set its signals, process group,
+ * standard descriptors and memory bound): imports, then streams the mesh
+ * or the error back. */
+static void child_main(int fd, vp_mesh_import_fn fn, const void *arg, const char *name,
+                       const vp_subproc_guard *g)
+{
     char err[512] = "";
     vp_mesh *m = NULL;
     vp_result r = fn(arg, &m, err, sizeof err);
+    /* Assimp reports a failed allocation as its message: under the bound
+     * that is the bound's doing, and a user can raise it */
+    size_t el = strlen(err);
+    if (r != VP_OK && (strstr(err, "bad_alloc") ||
+                       (el >= 13 && !strcmp(err + el - 13, "out of memory")))) {
+        r = VP_ERR_OUT_OF_MEMORY;
+        if (g && g->max_bytes) {
+            char b[32];
+            bound_text(g, b, sizeof b);
+            snprintf(err, sizeof err, "%s: reading the mesh needs more than the memory limit "
+                     "of %s (--max-memory): the file is malformed, or too large for the limit",
+                     name, b);
+        } else {
+            snprintf(err, sizeof err, "%s: the mesh reader (Assimp) ran out of memory; the "
+                     "file is probably malformed", name);
+        }
+    }
     wire_header h;
     memset(&h, 0, sizeof h);
     h.result = (int32_t)r;
@@ -81,22 +98,23 @@ static void child_main(int fd, vp_mesh_import_fn fn, const void *arg)
 }
 
 vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const char *name,
-                                  double timeout, vp_mesh **out, char *err, size_t errlen)
+                                  double timeout, const vp_subproc_guard *guard, vp_mesh **out,
+                                  char *err, size_t errlen)
 {
     *out = NULL;
 #ifdef VP_SUBPROC_IN_PROCESS
     (void)name;
     (void)timeout;
+    (void)guard;
     return fn(arg, out, err, errlen);
 #endif
     int fds[2];
-    if (pipe(fds) != 0) {
+    if (vp_subproc_pipe(fds) != 0) {
         snprintf(err, errlen, "%s: cannot start the mesh reader (pipe: %s)", name,
                  strerror(errno));
         return VP_ERR_IO;
     }
-    fflush(NULL); /* nothing buffered may be written twice */
-    pid_t pid = fork();
+    pid_t pid = vp_subproc_fork(guard);
     if (pid < 0) {
         close(fds[0]);
         close(fds[1]);
@@ -106,12 +124,13 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
     }
     if (pid == 0) {
         close(fds[0]);
-        child_main(fds[1], fn, arg);
+        child_main(fds[1], fn, arg, name, guard);
     }
     close(fds[1]);
 
     vp_subproc_watch watch;
     vp_subproc_watch_start(&watch, pid, timeout);
+    watch.guard = guard;
     vp_result res = VP_OK;
     vp_mesh *m = NULL;
     wire_header h;
@@ -152,18 +171,32 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
     }
     close(fds[0]);
     int status = 0;
-    if (rr == 2) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
+    if (rr == 3) { /* the caller cancelled (SIGINT in the command-line tool) */
+        vp_subproc_kill(pid, &status);
+        snprintf(err, errlen, "cancelled");
+        res = VP_ERR_CANCELLED;
+    } else if (rr == 2) {
+        vp_subproc_kill(pid, &status);
         snprintf(err, errlen,
                  "%s: the mesh reader (Assimp) did not finish within %.0f s; the file is "
                  "probably malformed (set VDBPACK_IMPORT_TIMEOUT to allow longer)",
                  name, timeout);
         res = VP_ERR_FORMAT;
     } else {
-        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-        }
-        if (rr != 0 && res == VP_OK) {
+        status = vp_subproc_wait(pid);
+        if (rr != 0 && res == VP_OK && guard && guard->max_bytes &&
+            (WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) != 0))) {
+            /* a crash under the bound is most likely a failed allocation
+             * that the reader did not check */
+            char b[32];
+            bound_text(guard, b, sizeof b);
+            snprintf(err, errlen, "%s: the mesh reader (Assimp) failed (%s %d) under the "
+                                  "memory limit of %s (--max-memory): the file is malformed, "
+                                  "or too large for the limit",
+                     name, WIFSIGNALED(status) ? "signal" : "exit status",
+                     WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status), b);
+            res = VP_ERR_FORMAT;
+        } else if (rr != 0 && res == VP_OK) {
             if (WIFSIGNALED(status))
                 snprintf(err, errlen, "%s: the mesh reader (Assimp) crashed on this file "
                                       "(signal %d); the file is probably malformed",

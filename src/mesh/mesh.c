@@ -27,6 +27,8 @@
  * Assimp logger is attached, so Assimp prints nothing. */
 #include "mesh/mesh.h"
 #include "mesh/isolate.h"
+#include "os/input.h"
+#include "os/text.h"
 
 #include <assimp/cimport.h>
 #include <assimp/scene.h>
@@ -37,6 +39,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 
 static void set_err(char *err, size_t errlen, const char *fmt, const char *name,
@@ -44,7 +47,7 @@ static void set_err(char *err, size_t errlen, const char *fmt, const char *name,
 {
     if (!err || errlen == 0)
         return;
-    snprintf(err, errlen, fmt, name, detail);
+    vp_os_format(err, errlen, fmt, name, detail);
     /* One line: replace any newline in Assimp's message. */
     for (char *c = err; *c; ++c)
         if (*c == '\n' || *c == '\r')
@@ -471,8 +474,85 @@ static int starts_with_ci(const unsigned char *d, size_t n, const char *word)
     return 1;
 }
 
-static vp_result precheck(const unsigned char *d, size_t n, const char *name, char *err,
-                          size_t errlen)
+/* Bytes of a PLY scalar type, 0 if unknown. */
+static int ply_type_size(const char *t)
+{
+    static const char *const one[] = {"char", "uchar", "int8", "uint8"};
+    static const char *const two[] = {"short", "ushort", "int16", "uint16"};
+    static const char *const four[] = {"int", "uint", "int32", "uint32", "float", "float32"};
+    for (size_t i = 0; i < 4; ++i)
+        if (!strcmp(t, one[i])) return 1;
+    for (size_t i = 0; i < 4; ++i)
+        if (!strcmp(t, two[i])) return 2;
+    for (size_t i = 0; i < 6; ++i)
+        if (!strcmp(t, four[i])) return 4;
+    if (!strcmp(t, "double") || !strcmp(t, "float64")) return 8;
+    return 0;
+}
+
+/* The elements a PLY header (d[0..hend), end_header's line included)
+ * declares against the bytes that follow it: Assimp 5.2 allocates what
+ * "element vertex 200000000" claims before it reads any of it (2.3 GB for
+ * a 360-byte file), so a header that claims more data than the file holds
+ * is refused here. Each element takes at least its properties' bytes
+ * (binary; a list at least its count) or two characters a value (ASCII:
+ * the value and a separator, one less at the end). VP_OK when the data can
+ * fit or the header cannot be understood (Assimp then says what is
+ * wrong). */
+static vp_result ply_claims(const unsigned char *d, size_t hend, size_t total, const char *name,
+                            char *err, size_t errlen)
+{
+    int ascii = -1;
+    double need = 0, count = 0, per = 0; /* the element being read */
+    char big[33] = "";
+    double big_count = 0;
+    size_t i = 0;
+    while (i < hend) {
+        size_t e = i;
+        while (e < hend && d[e] != '\n') ++e;
+        char line[256];
+        size_t len = e - i < sizeof line - 1 ? e - i : sizeof line - 1;
+        memcpy(line, d + i, len);
+        line[len] = 0;
+        i = e + 1;
+        char w0[32] = "", w1[40] = "", w2[32] = "", w3[32] = "";
+        int nw = sscanf(line, "%31s %39s %31s %31s", w0, w1, w2, w3);
+        if (nw >= 2 && !strcmp(w0, "format")) {
+            ascii = !strcmp(w1, "ascii") ? 1 : 0;
+        } else if (nw >= 3 && !strcmp(w0, "element")) {
+            need += count * per;
+            char *end = NULL;
+            count = strtod(w2, &end);
+            if (!end || *end || !(count >= 0)) return VP_OK;
+            per = 0;
+            if (count > big_count) {
+                big_count = count;
+                snprintf(big, sizeof big, "%s", w1);
+            }
+        } else if (nw >= 3 && !strcmp(w0, "property")) {
+            int sz = ply_type_size(!strcmp(w1, "list") ? w2 : w1);
+            if (!sz || ascii < 0) return VP_OK;
+            per += ascii ? 2 : sz;
+        }
+    }
+    need += count * per;
+    if (ascii == 1 && need > 0) need -= 1; /* the last value needs no separator */
+    size_t have = total > hend ? total - hend : 0;
+    if (need <= (double)have)
+        return VP_OK;
+    if (err && errlen)
+        vp_os_format(err, errlen,
+                     "%s: not a mesh file Assimp can read (its PLY header declares %.0f '%s' "
+                     "elements, at least %.3g bytes of data in all, but %zu bytes follow the "
+                     "header: the file is truncated or corrupt)", name, big_count, big, need,
+                     have);
+    return VP_ERR_FORMAT;
+}
+
+/* n: the bytes scanned (the first VP_MESH_PRECHECK_BYTES at most), total:
+ * the file's size. */
+static vp_result precheck(const unsigned char *d, size_t n, size_t total, const char *name,
+                          char *err, size_t errlen)
 {
     size_t i = 0;
     while (i < n && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n'))
@@ -481,8 +561,11 @@ static vp_result precheck(const unsigned char *d, size_t n, const char *name, ch
         static const char tag[] = "end_header";
         size_t k = sizeof tag - 1;
         for (size_t j = i; j + k <= n; ++j)
-            if (d[j] == 'e' && memcmp(d + j, tag, k) == 0)
-                return VP_OK;
+            if (d[j] == 'e' && memcmp(d + j, tag, k) == 0) {
+                size_t hend = j + k;
+                while (hend < n && d[hend] != '\n') ++hend;
+                return ply_claims(d, hend < n ? hend + 1 : n, total, name, err, errlen);
+            }
         set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", name,
                 "PLY header without an end_header line");
         return VP_ERR_FORMAT;
@@ -589,6 +672,12 @@ static vp_result import_memory(const void *arg, vp_mesh **out, char *err, size_t
 
 vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen)
 {
+    return vp_mesh_load_guarded(path, NULL, out, err, errlen);
+}
+
+vp_result vp_mesh_load_guarded(const char *path, const vp_subproc_guard *guard, vp_mesh **out,
+                               char *err, size_t errlen)
+{
     if (err && errlen)
         err[0] = '\0';
     if (!out) {
@@ -602,19 +691,21 @@ vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen
     }
 
     /* Check the file ourselves first: Assimp's messages for a missing or
-     * unreadable file are poor. */
-    FILE *f = fopen(path, "rb");
+     * unreadable file are poor, and it would block for ever on a FIFO. */
+    char msg[1024];
+    int fd = vp_os_open_input(path, msg, sizeof msg);
+    FILE *f = fd < 0 ? NULL : fdopen(fd, "rb");
     if (!f) {
-        set_err(err, errlen, "%s: cannot open file (%s)", path, strerror(errno));
+        if (fd >= 0) {
+            vp_os_format(msg, sizeof msg, "%s: cannot open file (%s)", path, strerror(errno));
+            close(fd);
+        }
+        set_err(err, errlen, "%s%s", msg, "");
         return VP_ERR_IO;
     }
     struct stat st;
     memset(&st, 0, sizeof st);
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        set_err(err, errlen, "%s: cannot open file (%s)", path, strerror(EISDIR));
-        return VP_ERR_IO;
-    }
+    fstat(fileno(f), &st);
     unsigned char *head = malloc(VP_MESH_PRECHECK_BYTES);
     if (!head) {
         fclose(f);
@@ -637,13 +728,13 @@ vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen
                 "the file is empty");
         return VP_ERR_FORMAT;
     }
-    vp_result pr = precheck(head, got, path, err, errlen);
+    vp_result pr = precheck(head, got, (size_t)st.st_size, path, err, errlen);
     free(head);
     if (pr != VP_OK)
         return pr;
 
     return vp_mesh_import_isolated(import_path, path, path,
-                                   vp_mesh_import_timeout((size_t)st.st_size), out, err,
+                                   vp_mesh_import_timeout((size_t)st.st_size), guard, out, err,
                                    errlen);
 }
 
@@ -668,12 +759,12 @@ vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,
         return VP_ERR_INVALID_ARGUMENT;
     }
     size_t scan = size < VP_MESH_PRECHECK_BYTES ? size : VP_MESH_PRECHECK_BYTES;
-    vp_result pr = precheck((const unsigned char *)data, scan, name, err, errlen);
+    vp_result pr = precheck((const unsigned char *)data, scan, size, name, err, errlen);
     if (pr != VP_OK)
         return pr;
     memory_source src = {data, size, hint ? hint : ""};
     return vp_mesh_import_isolated(import_memory, &src, name, vp_mesh_import_timeout(size),
-                                   out, err, errlen);
+                                   NULL, out, err, errlen);
 }
 
 void vp_mesh_destroy(vp_mesh *m)

@@ -35,6 +35,14 @@ typedef struct vp_mesh {
  * double, so values that differ only beyond float precision weld together.
  * *out is owned by the caller (vp_mesh_destroy). */
 vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen);
+/* vp_mesh_load with the reader child bounded by guard (os/subproc.h: the
+ * caller's cancel, polled while Assimp reads, and its memory limit; NULL:
+ * neither). Anything but a regular file (a FIFO, a device) is refused at
+ * once (VP_ERR_IO), and so is a PLY whose header declares more data than
+ * the file holds (VP_ERR_FORMAT). */
+struct vp_subproc_guard;
+vp_result vp_mesh_load_guarded(const char *path, const struct vp_subproc_guard *guard,
+                               vp_mesh **out, char *err, size_t errlen);
 
 /* Same, from an in-memory buffer; hint is the format extension ("obj"). */
 vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,

@@ -5,6 +5,7 @@
 #include "core/context.h"
 #include "core/mesh_shape.h"
 #include "mesh/mesh.h"
+#include "os/subproc.h"
 
 #include <string.h>
 
@@ -35,7 +36,10 @@ vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **
     if (!path || !*path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "shape: no mesh file given");
     char err[1024];
     vp_mesh *mesh = NULL;
-    vp_result r = vp_mesh_load(path, &mesh, err, sizeof err);
+    vp_subproc_guard guard; /* cancel and --max-memory reach the reader */
+    vp_context_child_guard(ctx, &guard);
+    vp_result r = vp_mesh_load_guarded(path, &guard, &mesh, err, sizeof err);
+    if (r == VP_ERR_CANCELLED) return vp_fail(ctx, r, "cancelled");
     if (r != VP_OK) return vp_fail(ctx, r, "shape %s", err);
     return shape_from_welded(ctx, vp_path_base(path), mesh, out);
 }

@@ -6,12 +6,18 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 double vp_subproc_now(void) {
     struct timespec ts;
@@ -34,6 +40,7 @@ int vp_subproc_write_all(int fd, const void *buf, size_t n) {
 }
 
 void vp_subproc_watch_start(vp_subproc_watch *w, pid_t pid, double timeout) {
+    w->guard = NULL;
     w->pid = pid;
     w->timeout = timeout;
     w->start = vp_subproc_now();
@@ -90,19 +97,23 @@ static int extend(vp_subproc_watch *w) {
 
 int vp_subproc_read_all(int fd, void *buf, size_t n, vp_subproc_watch *w) {
     char *p = buf;
+    const vp_subproc_guard *g = w->guard;
     while (n) {
+        if (g && g->cancel && g->cancel(g->user)) return 3;
         double left = w->deadline - vp_subproc_now();
         if (left <= 0) {
             if (!extend(w)) return 2;
             continue;
         }
+        /* a tenth of a second at a time while someone may cancel */
+        if (g && g->cancel && left > 0.1) left = 0.1;
         struct pollfd pfd = {fd, POLLIN, 0};
         int pr = poll(&pfd, 1, (int)(left * 1000.0) + 1);
         if (pr < 0) {
             if (errno == EINTR) continue;
             return -1;
         }
-        if (pr == 0) continue; /* the deadline, checked above */
+        if (pr == 0) continue; /* the deadline or the cancel, checked above */
         ssize_t r = read(fd, p, n);
         if (r < 0) {
             if (errno == EINTR || errno == EAGAIN) continue;
@@ -125,7 +136,101 @@ double vp_subproc_timeout(const char *env, double base, double per_mb, size_t fi
     return base + per_mb * (double)file_bytes / 1e6;
 }
 
-void vp_subproc_child_signals(void) {
-    const int sigs[] = {SIGPIPE, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
-    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) signal(sigs[i], SIG_DFL);
+int vp_subproc_pipe(int fds[2]) {
+    int p[2];
+    if (pipe(p) != 0) return -1;
+    int e = 0;
+    fds[0] = fcntl(p[0], F_DUPFD_CLOEXEC, 3);
+    if (fds[0] < 0) e = errno;
+    fds[1] = e ? -1 : fcntl(p[1], F_DUPFD_CLOEXEC, 3);
+    if (!e && fds[1] < 0) e = errno;
+    close(p[0]);
+    close(p[1]);
+    if (e) {
+        if (fds[0] >= 0) close(fds[0]);
+        errno = e;
+        return -1;
+    }
+    return 0;
+}
+
+/* The child's address space now (bytes), from /proc/self/statm; 0 when it
+ * cannot be read. Async-signal-safe calls only (a child of a threaded
+ * parent). */
+static uint64_t address_space(void) {
+    int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    char buf[64];
+    ssize_t n = read(fd, buf, sizeof buf - 1);
+    close(fd);
+    uint64_t pages = 0;
+    for (ssize_t i = 0; i < n && buf[i] >= '0' && buf[i] <= '9'; i++)
+        pages = 10 * pages + (uint64_t)(buf[i] - '0');
+    long psz = sysconf(_SC_PAGESIZE);
+    return psz > 0 ? pages * (uint64_t)psz : 0;
+}
+
+static void child_setup(pid_t parent, const vp_subproc_guard *g) {
+    setpgid(0, 0);
+#ifdef __linux__
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+#endif
+    /* the parent died before the line above: no one will read or end it */
+    if (getppid() != parent) _exit(125);
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sigemptyset(&sa.sa_mask);
+    sa.sa_handler = SIG_DFL;
+    for (int sig = 1; sig < 65; sig++)
+        if (sig != SIGKILL && sig != SIGSTOP) sigaction(sig, &sa, NULL); /* (errors: not a signal) */
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, NULL);
+    int null = open("/dev/null", O_RDWR);
+    if (null >= 0) {
+        for (int fd = 0; fd < 3; fd++)
+            if (null != fd) dup2(null, fd);
+        if (null > 2) close(null);
+    }
+    /* memory: what it has now (the parent's mappings, inherited) plus the
+     * bound, never above the limit the caller already set */
+    uint64_t budget = g ? g->max_bytes : 0;
+    if (!budget) {
+        long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
+        budget = pages > 0 && psz > 0 ? (uint64_t)pages * (uint64_t)psz : 0;
+    }
+    if (budget) {
+        uint64_t want = address_space() + budget;
+        struct rlimit rl;
+        if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_max != RLIM_INFINITY &&
+            (uint64_t)rl.rlim_max < want)
+            want = (uint64_t)rl.rlim_max;
+        rl.rlim_cur = rl.rlim_max = (rlim_t)want;
+        setrlimit(RLIMIT_AS, &rl);
+    }
+}
+
+pid_t vp_subproc_fork(const vp_subproc_guard *g) {
+    pid_t parent = getpid();
+    fflush(NULL); /* nothing buffered may be written twice */
+    pid_t pid = fork();
+    if (pid == 0) {
+        child_setup(parent, g);
+        return 0;
+    }
+    if (pid > 0) setpgid(pid, pid); /* also done by the child: whichever comes first */
+    return pid;
+}
+
+int vp_subproc_wait(pid_t pid) {
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return status;
+}
+
+void vp_subproc_kill(pid_t pid, int *status) {
+    if (kill(-pid, SIGKILL) != 0) kill(pid, SIGKILL);
+    int st = vp_subproc_wait(pid);
+    if (status) *status = st;
 }

@@ -23,15 +23,49 @@
 #endif
 #endif
 
+#include <stdint.h>
 #include <sys/types.h>
 
 /* Monotonic clock, seconds. */
 double vp_subproc_now(void);
-/* In a forked child, before it runs a reader: the default action for
- * SIGPIPE and for the crash signals (SEGV, BUS, FPE, ILL, ABRT), which the
- * command line tool catches to clean up its outputs; the parent learns a
- * reader's crash from the child's death by that signal. */
-void vp_subproc_child_signals(void);
+
+/* What bounds a reader child besides its deadline. */
+typedef struct vp_subproc_guard {
+    /* polled about ten times a second (on the waiting thread) while the
+     * parent waits for the child; nonzero: the wait ends at once
+     * (vp_subproc_read_all returns 3) and the caller kills the child. NULL:
+     * never. The library passes its progress callback (a SIGINT in the
+     * command-line tool cancels through it). */
+    int (*cancel)(void *user);
+    void *user;
+    /* bytes the child may map beyond what it has at the fork (RLIMIT_AS,
+     * in the child): a runaway allocation fails there, not the machine.
+     * 0: the machine's physical memory. */
+    uint64_t max_bytes;
+} vp_subproc_guard;
+
+/* A pipe for a child's answer: both ends close-on-exec and numbered above
+ * 2, so that a child whose standard descriptors are replaced by /dev/null
+ * keeps its end even when the caller had 0, 1 or 2 closed (pipe() then
+ * hands out those numbers). 0, or -1 with errno set. */
+int vp_subproc_pipe(int fds[2]);
+/* fork() for a reader child, after fflush(NULL). In the child (0 is
+ * returned): its own process group (a Ctrl-C to the terminal's group
+ * reaches the parent only, which ends the child), killed by SIGKILL when
+ * the thread that forked it dies (PR_SET_PDEATHSIG; a child whose parent
+ * is already gone exits), every signal's default action and none blocked
+ * (the parent's handlers, such as the command-line tool's SIGINT handler
+ * that removes outputs, must not run in it; the parent learns a reader's
+ * crash from its death by that signal), stdin, stdout and stderr on
+ * /dev/null (a reader's own messages would make a second error line, or
+ * mix into an output written to stdout), and g's memory bound (g may be
+ * NULL). In the parent: the child's pid, or -1 with errno set. */
+pid_t vp_subproc_fork(const vp_subproc_guard *g);
+/* Kills a child started by vp_subproc_fork (its process group) with
+ * SIGKILL and waits for it; the status in *status if not NULL. */
+void vp_subproc_kill(pid_t pid, int *status);
+/* Waits for a child (retrying on EINTR); its status. */
+int vp_subproc_wait(pid_t pid);
 /* Writes all n bytes (retrying on EINTR): 0, or -1 on error. */
 int vp_subproc_write_all(int fd, const void *buf, size_t n);
 
@@ -48,11 +82,13 @@ typedef struct vp_subproc_watch {
     double timeout;  /* seconds */
     double start;    /* vp_subproc_now() when the child started */
     double deadline; /* moves while the child is starved */
+    const vp_subproc_guard *guard; /* its cancel is polled; may be NULL */
 } vp_subproc_watch;
-/* Starts the watch of child pid with the given timeout. */
+/* Starts the watch of child pid with the given timeout (guard NULL). */
 void vp_subproc_watch_start(vp_subproc_watch *w, pid_t pid, double timeout);
 /* Reads exactly n bytes before the watch's deadline: 0 on success, 1 on
- * EOF first, -1 on error, 2 on timeout. */
+ * EOF first, -1 on error, 2 on timeout, 3 when the guard's cancel asked to
+ * stop. */
 int vp_subproc_read_all(int fd, void *buf, size_t n, vp_subproc_watch *w);
 /* A deadline from the environment variable env (seconds, > 0) when set,
  * otherwise base + per_mb seconds per MB of file_bytes. */
