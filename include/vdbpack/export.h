@@ -44,7 +44,11 @@ VP_API void vp_export_params_init(vp_export_params *p);
 /* Writes p to path in params->format (or by extension) atomically: on any
  * failure nothing is left at path (an existing file there is untouched).
  * p is only read; params NULL means defaults. Unknown formats give
- * VP_ERR_INVALID_ARGUMENT. */
+ * VP_ERR_INVALID_ARGUMENT, and so does a particle that the format's
+ * readers would refuse, before any file is made (the message names it): a
+ * position, radius or orient that is not finite (every format); a radius
+ * <= 0 or an orient that is not a unit quaternion within 1e-3 (PLY, CSV,
+ * OBJ); a coordinate beyond FLT_MAX (PLY; OBJ with the radius added). */
 VP_API vp_result vp_export(vp_context *ctx, const char *path, const vp_particles *p,
                            const vp_export_params *params);
 
@@ -58,7 +62,8 @@ VP_API int vp_export_obj_counts(vp_shape s, int sphere_subdivisions, int *verts,
 
 /* Reads a particle set from a .vdb (its points grid, as vp_read_points), or
  * a .ply or .csv as vdbpack writes them; format VP_FORMAT_UNKNOWN = by
- * extension. PLY and CSV input is checked strictly: a wrong header, a
+ * extension. A path that is not a regular file (a FIFO, a device, a
+ * directory) gives VP_ERR_IO at once. PLY and CSV input is checked strictly: a wrong header, a
  * truncated or over-long file, non-finite values, pscale <= 0, ids that
  * are not 0..N-1 once each, or bad quaternions give VP_ERR_FORMAT with a
  * message naming the file and the first problem. Particles come back in id

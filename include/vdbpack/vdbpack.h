@@ -439,11 +439,15 @@ VP_API void vp_write_params_init(vp_write_params *p);
  * or in the voxel that keeps index coordinates within range far from it. */
 VP_API double vp_points_min_radius(double max_coordinate);
 
-/* Writes a PointDataGrid "points" to path (atomically). */
+/* Writes a PointDataGrid "points" to path (atomically). A position,
+ * radius or orient that is not finite is refused (VP_ERR_INVALID_ARGUMENT,
+ * naming the particle; nothing written). */
 VP_API vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
                                  const vp_write_params *params);
 /* Reads the "points" grid of a file written by vp_write_points (or any
- * PointDataGrid with P and optionally pscale, orient). */
+ * PointDataGrid with P and optionally pscale, orient). A position, pscale
+ * or orient that is not finite gives VP_ERR_FORMAT naming the particle; a
+ * path that is not a regular file, VP_ERR_IO at once. */
 VP_API vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out);
 /* Describes every grid and the metadata of a .vdb; *out is malloc'd text
  * (JSON if json != 0) owned by the caller (free()). */

@@ -26,9 +26,33 @@ double vp_points_min_radius(double max_coordinate) {
     return vpv_points_error(vpv_points_min_voxel(m), 1) / VP_POSITION_ERROR_LIMIT;
 }
 
+/* The first particle with a position, radius or orient that is not finite
+ * (which vdbpack's readers refuse in every format), its part in *what; or
+ * (size_t)-1. */
+static size_t nonfinite_particle(const vp_particles *p, const char **what) {
+    for (size_t i = 0; p->positions && i < p->count; i++) {
+        const double *x = p->positions + 3 * i;
+        const float *q = p->orients ? p->orients + 4 * i : p->uniform_orient;
+        double r = p->radii ? (double)p->radii[i] : (double)p->uniform_radius;
+        *what = !isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]) ? "position"
+                : !isfinite(r)                                          ? "radius (pscale)"
+                : p->has_orient && !(isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]) &&
+                                     isfinite(q[3]))
+                    ? "orient"
+                    : NULL;
+        if (*what) return i;
+    }
+    return (size_t)-1;
+}
+
 vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles *p,
                           const vp_write_params *params) {
     if (!p) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no particles to write");
+    const char *what = NULL;
+    size_t bad = nonfinite_particle(p, &what);
+    if (bad != (size_t)-1)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "%s: particle %zu: its %s is not finite; nothing written", path, bad, what);
     vp_write_params def;
     if (!params) {
         vp_write_params_init(&def);
@@ -80,7 +104,18 @@ vp_result vp_read_points(vp_context *ctx, const char *path, vp_particles **out) 
     if (pr != VP_OK) return pr;
     char err[1024];
     int rc = vpv_points_read(path, out, err, sizeof err);
-    return rc == VP_OK ? VP_OK : vp_fail(ctx, (vp_result)rc, "%s", err);
+    if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", err);
+    /* refused as the CSV and PLY readers refuse it: check, render and
+     * convert would work on NaN (convert wrote "-nan" into a CSV) */
+    const char *what = NULL;
+    size_t bad = nonfinite_particle(*out, &what);
+    if (bad != (size_t)-1) {
+        vp_particles_destroy(*out);
+        *out = NULL;
+        return vp_fail(ctx, VP_ERR_FORMAT, "%s: particle %zu: its %s is not finite", path, bad,
+                       what);
+    }
+    return VP_OK;
 }
 
 vp_result vp_describe_file(vp_context *ctx, const char *path, int json, char **out) {

@@ -236,6 +236,8 @@ int vp_cli_check(int argc, char **argv) {
                rep.contact_pairs, cp.contact_tolerance);
         printf("  %s\n", bad ? "VIOLATION" : "OK");
     }
+    /* the report asked for and lost (stdout on a full disk): an error */
+    if ((status = vp_cli_flush_stdout(0)) != 0) goto done;
     if (bad && (quiet || json)) {
         if (rep.imprecise)
             fprintf(stderr, "vdbpack: check: %s: positions stored to within %.3g, %.3g of the "

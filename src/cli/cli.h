@@ -39,13 +39,21 @@ int vp_cli_once(vp_cli_seen *s, const char *cmd, const char *opt, const char *va
 int vp_cli_shape_count(char *buf, size_t len, size_t count, int shape);
 /* "icosahedra", "mesh shapes", ... */
 const char *vp_cli_shape_plural(int shape);
-/* 1 when a and b name the same file: the same string, or both exist and
- * are the same inode. */
+/* 1 when a and b name the same file: the same string; both exist and are
+ * the same inode; or they resolve to the same file (links followed, "."
+ * and ".." gone; for a file not there yet, its directory resolved and its
+ * name, a dangling link at the name followed). */
 int vp_cli_same_file(const char *a, const char *b);
 /* At start: a standard descriptor (0, 1, 2) that is closed is opened on
  * /dev/null, so that no file or pipe opened later takes its number (and
  * what is printed to it goes nowhere instead of into that file). */
 void vp_cli_std_fds(void);
+/* After a command's results were printed: when writing the standard output
+ * failed (a full disk, /dev/full, a closed pipe), the result asked for is
+ * lost, which is an error: one line, and 1 instead of a status 0 or 3
+ * (other statuses, errors already told, are returned as they are). Reports
+ * once per process. */
+int vp_cli_flush_stdout(int status);
 /* Strict number parsing: the whole text must be a finite number. */
 int vp_cli_parse_double(const char *s, double *out);
 int vp_cli_parse_u64(const char *s, uint64_t *out);

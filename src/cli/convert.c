@@ -4,6 +4,7 @@
  * `vdbpack pack -o` shares (choosing the format, the OBJ size warning). */
 #include "vdbpack/vdbpack.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,7 +72,8 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
         for (size_t i = 0; i < (p->radii ? p->count : 1); i++)
             rmin = fmin(rmin, p->radii ? (double)p->radii[i] : (double)p->uniform_radius);
         double half_ulp = cmax > 0 ? ldexp(1.0, ilogb(cmax) - 24) : 0.0; /* float rounding */
-        if (rmin > 0 && sqrt(3.0) * half_ulp > 1e-4 * rmin)
+        /* (past the largest float the writer refuses: that line alone) */
+        if (rmin > 0 && cmax <= FLT_MAX && sqrt(3.0) * half_ulp > 1e-4 * rmin)
             fprintf(stderr, "vdbpack: warning: %s: PLY stores positions as 32-bit floats, which "
                             "at coordinates up to %.6g round by up to %.3g (%.2g %% of the "
                             "smallest radius): touching particles may overlap in it; .vdb and "
@@ -221,7 +223,9 @@ int vp_cli_convert(int argc, char **argv) {
                vp_format_name(in_fmt), out, vp_format_name((vp_format)out_fmt));
     }
     if (!quiet && out_fmt == VP_FORMAT_VDB && wrep.promoted) vp_cli_print_promoted(&wrep);
-    status = 0;
+    /* the summary lost (stdout on a full disk): an error, which leaves no
+     * output */
+    if ((status = vp_cli_flush_stdout(0)) != 0) vp_remove_output(out);
 done:
     vp_particles_destroy(p);
     vp_context_destroy(ctx);

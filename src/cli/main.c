@@ -199,5 +199,6 @@ static int run_command(int argc, char **argv) {
 
 int main(int argc, char **argv) {
     vp_cli_std_fds();
-    return run_command(argc, argv);
+    /* a result printed but lost (stdout on a full disk) is an error */
+    return vp_cli_flush_stdout(run_command(argc, argv));
 }

@@ -961,7 +961,14 @@ int vp_cli_pack(int argc, char **argv) {
         print_json(&o, &ci, p, &rr, &wrep, fraction, vp_context_threads(ctx), seconds);
     else if (!o.quiet)
         print_summary(&o, &ci, p, &rr, &wrep, fraction, seconds);
-    status = 0;
+    /* the summary or JSON asked for and lost (stdout on a full disk): an
+     * error, and an error leaves no output */
+    status = vp_cli_flush_stdout(0);
+    if (status) {
+        const char *outs[4] = {o.output, o.save_container, o.shape_out, o.preview};
+        for (int i = 0; i < 4; i++)
+            if (outs[i]) vp_remove_output(outs[i]);
+    }
 
 done:
     for (int i = 0; i < ncreated; i++) vp_remove_output(created[i]);

@@ -211,6 +211,10 @@ int vp_cli_render(int argc, char **argv) {
     if (view_set && camera_set) return vp_cli_die(2, "render: give either --view or --camera");
     int rc = vp_cli_preview_path_check("render: -o", out);
     if (rc) return rc;
+    /* by the file each resolves to: a.png can be a link to the packing */
+    if (vp_cli_same_file(out, file) || (shape_file && vp_cli_same_file(out, shape_file)))
+        return vp_cli_die(2, "render: -o %s is the %s itself: writing would replace it", out,
+                          vp_cli_same_file(out, file) ? "packing it renders" : "--shape mesh");
 
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
@@ -238,7 +242,9 @@ int vp_cli_render(int argc, char **argv) {
     if (!quiet)
         printf("vdbpack: rendered %zu particle%s of %s into %s (%dx%d)\n", p->count,
                p->count == 1 ? "" : "s", file, out, rp.width, rp.height);
-    status = 0;
+    /* the summary lost (stdout on a full disk): an error, which leaves no
+     * output */
+    if ((status = vp_cli_flush_stdout(0)) != 0) vp_remove_output(out);
 done:
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);

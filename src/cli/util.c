@@ -16,14 +16,42 @@
 
 #include "cli/cli.h"
 
+/* text into out[len], its middle replaced by "..." when it is too long, so
+ * that the reason at the end of a message with a path of 4000 bytes
+ * survives (the library's messages are shortened the same way, in
+ * src/os/text.c, which the command-line tool does not link). */
+static void shorten_middle(char *out, size_t len, const char *text) {
+    size_t n = strlen(text);
+    if (n < len) {
+        memcpy(out, text, n + 1);
+        return;
+    }
+    size_t room = len - 4, head = room / 3, from = n - (room - head);
+    while (head > 0 && ((unsigned char)text[head] & 0xC0) == 0x80) head--;
+    while (from < n && ((unsigned char)text[from] & 0xC0) == 0x80) from++;
+    memcpy(out, text, head);
+    memcpy(out + head, "...", 3);
+    memcpy(out + head + 3, text + from, n - from + 1);
+}
+
 /* One line, always: control characters from file names or option values
  * (a newline in a path) are shown as '?'. */
 int vp_cli_die(int status, const char *fmt, ...) {
     char msg[4096];
-    va_list ap;
+    va_list ap, again;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_copy(again, ap);
+    int n = vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    if (n >= (int)sizeof msg) {
+        char *full = malloc((size_t)n + 1);
+        if (full) {
+            vsnprintf(full, (size_t)n + 1, fmt, again);
+            shorten_middle(msg, sizeof msg, full);
+            free(full);
+        }
+    }
+    va_end(again);
     for (char *c = msg; *c; c++)
         if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
     fprintf(stderr, "vdbpack: %s\n", msg);
@@ -68,12 +96,54 @@ int vp_cli_shape_count(char *buf, size_t len, size_t count, int shape) {
     return snprintf(buf, len, "%zu %s", count, count == 1 ? one : vp_cli_shape_plural(shape));
 }
 
+/* The file path names, spelled one way (out: PATH_MAX bytes): realpath()
+ * when it exists; otherwise, after following a dangling link at the name
+ * (it names the file a write creates), the resolved directory and the
+ * name. 0, or -1 when it cannot be told (a missing directory, a loop). */
+static int resolve_file(const char *path, char *out) {
+    char cur[PATH_MAX];
+    if (strlen(path) >= sizeof cur) return -1;
+    strcpy(cur, path);
+    for (int depth = 0; depth < 40; depth++) {
+        if (realpath(cur, out)) return 0;
+        const char *slash = strrchr(cur, '/');
+        struct stat st;
+        if (lstat(cur, &st) == 0 && S_ISLNK(st.st_mode)) {
+            char link[PATH_MAX], next[PATH_MAX];
+            ssize_t n = readlink(cur, link, sizeof link - 1);
+            if (n < 0) return -1;
+            link[n] = 0;
+            int w = link[0] == '/' || !slash
+                        ? snprintf(next, sizeof next, "%s", link)
+                        : snprintf(next, sizeof next, "%.*s/%s", (int)(slash - cur), cur, link);
+            if (w < 0 || (size_t)w >= sizeof next) return -1;
+            strcpy(cur, next);
+            continue;
+        }
+        const char *name = slash ? slash + 1 : cur;
+        if (!*name || !strcmp(name, ".") || !strcmp(name, "..")) return -1;
+        char dir[PATH_MAX];
+        if (!slash) strcpy(dir, ".");
+        else if (slash == cur) strcpy(dir, "/");
+        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - cur), cur);
+        char rdir[PATH_MAX];
+        if (!realpath(dir, rdir)) return -1;
+        int w = snprintf(out, PATH_MAX, "%s/%s", strcmp(rdir, "/") ? rdir : "", name);
+        return w < 0 || w >= PATH_MAX ? -1 : 0;
+    }
+    return -1;
+}
+
 int vp_cli_same_file(const char *a, const char *b) {
     if (!a || !b) return 0;
     if (!strcmp(a, b)) return 1;
     struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0) /* (hard links too) */
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    /* one that does not exist yet: by the file it would be (./x.vdb and
+     * x.vdb, ln/x.png and real/x.png with ln a link to real) */
+    char ra[PATH_MAX], rb[PATH_MAX];
+    return resolve_file(a, ra) == 0 && resolve_file(b, rb) == 0 && !strcmp(ra, rb);
 }
 
 void vp_cli_std_fds(void) {
@@ -85,6 +155,23 @@ void vp_cli_std_fds(void) {
                 close(got);
             }
         }
+}
+
+/* set once the loss of the standard output has been reported */
+static int g_stdout_told = 0;
+
+int vp_cli_flush_stdout(int status) {
+    if (g_stdout_told) return status;
+    errno = 0;
+    int bad = fflush(stdout) != 0;
+    int e = errno;
+    if (!bad && !ferror(stdout)) return status;
+    g_stdout_told = 1;
+    if (status != 0 && status != 3) return status; /* an error was told already */
+    /* (the reason is known when the last write failed; an earlier one,
+     * inside a long printf, leaves only the stream's error flag) */
+    return vp_cli_die(1, "cannot write the result to the standard output%s%s%s", e ? " (" : "",
+                      e ? strerror(e) : "", e ? ")" : "");
 }
 
 int vp_cli_parse_double(const char *s, double *out) {

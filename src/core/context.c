@@ -64,7 +64,8 @@ vp_result vp_fail(vp_context *ctx, vp_result r, const char *fmt, ...) {
     if (ctx) {
         va_list ap;
         va_start(ap, fmt);
-        vsnprintf(ctx->message, sizeof ctx->message, fmt, ap);
+        /* a long path loses its middle, not the reason at the end */
+        vp_os_vformat(ctx->message, sizeof ctx->message, fmt, ap);
         va_end(ap);
     }
     return r;

@@ -20,6 +20,7 @@ vp_result vpio_write_csv(vp_context *ctx, const char *path, const vp_particles *
                          const vp_export_params *params) {
     (void)params;
     vp_result r = vpio_check_particles(ctx, path, p);
+    if (r == VP_OK) r = vpio_check_writable(ctx, path, p, 0, "CSV");
     if (r != VP_OK) return r;
     for (unsigned g = 0; g < p->group_count; g++)
         if (!vpio_valid_group_name(p->group_names[g], strnlen(p->group_names[g], VP_GROUP_NAME_MAX)))

@@ -195,6 +195,39 @@ vp_result vpio_check_particles(vp_context *ctx, const char *path, const vp_parti
     return VP_OK;
 }
 
+vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_particles *p,
+                              int floats, const char *format) {
+    for (size_t i = 0; i < p->count; i++) {
+        const double *x = p->positions + 3 * i;
+        double r = (double)vpio_radius(p, i);
+        if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "%s: particle %zu: its position (%g %g %g) is not finite; nothing "
+                           "written", path, i, x[0], x[1], x[2]);
+        if (!isfinite(r) || !(r > 0))
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "%s: particle %zu: its radius %g is not a positive number; nothing "
+                           "written", path, i, r);
+        for (int k = 0; floats && k < 3; k++)
+            if (!(fabs(x[k]) + (floats == 2 ? r : 0.0) <= FLT_MAX))
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               "%s: particle %zu: its coordinate %g is beyond the 32-bit floats "
+                               "%s holds (at most %.3g); nothing written (.csv keeps it)",
+                               path, i, x[k], format, (double)FLT_MAX);
+        if (p->has_orient) {
+            const float *q = vpio_orient(p, i);
+            double n = 0;
+            for (int c = 0; c < 4; c++) n += (double)q[c] * (double)q[c];
+            if (!(fabs(sqrt(n) - 1) <= 1e-3))
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               "%s: particle %zu: its orient (%g %g %g %g) is not a finite unit "
+                               "quaternion; nothing written", path, i, (double)q[0],
+                               (double)q[1], (double)q[2], (double)q[3]);
+        }
+    }
+    return VP_OK;
+}
+
 int vpio_valid_group_name(const char *s, size_t n) {
     if (n == 0 || n >= VP_GROUP_NAME_MAX) return 0;
     for (size_t i = 0; i < n; i++) {

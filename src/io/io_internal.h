@@ -42,6 +42,17 @@ vp_result vpio_open_read(vp_context *ctx, const char *path, FILE **f);
  * VP_MAX_GROUPS groups, arrays present for count > 0. */
 vp_result vpio_check_particles(vp_context *ctx, const char *path, const vp_particles *p);
 
+/* What every reader refuses, refused before writing (a writer must not
+ * make a file its readers refuse): per particle, a position that is not
+ * finite or, with floats 1 (PLY's 32-bit floats) or 2 (OBJ, whose
+ * readers take floats: the position and the particle's radius), beyond
+ * the largest float; a radius that is not a positive finite number; an
+ * orient that is not a finite unit quaternion (within 1e-3, as the readers
+ * check). VP_ERR_INVALID_ARGUMENT with one line naming the particle;
+ * format names the format in it. */
+vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_particles *p,
+                              int floats, const char *format);
+
 /* Group names are what OpenVDB accepts (letters, digits, _ | :), 1 to
  * VP_GROUP_NAME_MAX - 1 characters. */
 int vpio_valid_group_name(const char *s, size_t n);

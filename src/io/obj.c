@@ -136,6 +136,7 @@ static int build_unit(unit_mesh *m, vp_shape s, const vp_mesh_shape *mesh, int n
 vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *p,
                          const vp_export_params *params) {
     vp_result r = vpio_check_particles(ctx, path, p);
+    if (r == VP_OK) r = vpio_check_writable(ctx, path, p, 2, "OBJ");
     if (r != VP_OK) return r;
     if (!vp_shape_name(p->shape))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: unknown particle shape", path);

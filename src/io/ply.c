@@ -35,6 +35,7 @@ static void put_comment(FILE *f, const char *key, const char *val) {
 vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *p,
                          const vp_export_params *params) {
     vp_result r = vpio_check_particles(ctx, path, p);
+    if (r == VP_OK) r = vpio_check_writable(ctx, path, p, 1, "PLY");
     if (r != VP_OK) return r;
     vpio_out o;
     if ((r = vpio_open(ctx, path, &o)) != VP_OK) return r;

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Atomic file output; see atomic.h. */
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "os/atomic.h"
+#include "os/text.h"
 
 #include <stdarg.h>
 
@@ -23,9 +25,15 @@ static vp_result fail(vp_atomic *a, vp_result r, const char *fmt, ...)
 static vp_result fail(vp_atomic *a, vp_result r, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(a->err, sizeof a->err, fmt, ap);
+    vp_os_vformat(a->err, sizeof a->err, fmt, ap);
     va_end(ap);
     return r;
+}
+
+/* Closes the directory descriptor a temporary was named through. */
+static void close_dir(vp_atomic *a) {
+    if (a->dir_open) close(a->dirfd);
+    a->dir_open = 0;
 }
 
 /* Temporary files of writes in progress, for vp_remove_partial_outputs()
@@ -109,8 +117,9 @@ vp_result vp_os_atomic_begin(vp_atomic *a, const char *path) {
     a->slot = -1;
     if (!path || !*path) return fail(a, VP_ERR_INVALID_ARGUMENT, "no output path given");
     size_t n = strlen(path);
-    if (n >= sizeof a->final_path - 32)
-        return fail(a, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
+    if (n >= sizeof a->final_path)
+        return fail(a, VP_ERR_INVALID_ARGUMENT, "%s: cannot write output (%s)", path,
+                    strerror(ENAMETOOLONG));
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return fail(a, VP_ERR_IO, "%s: cannot write output: it is a directory", path);
@@ -123,7 +132,7 @@ vp_result vp_os_atomic_begin(vp_atomic *a, const char *path) {
         memcpy(target, path, n + 1);
     } else {
         /* a link is followed: renaming onto it would replace the link */
-        int e = follow_links(path, target, sizeof a->final_path - 32);
+        int e = follow_links(path, target, sizeof a->final_path);
         if (e) return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
     }
     n = strlen(target);
@@ -142,22 +151,42 @@ vp_result vp_os_atomic_begin(vp_atomic *a, const char *path) {
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
         return fail(a, VP_ERR_IO, "%s: cannot write output: directory %s does not exist",
                        path, dir);
-    int w;
+    int w, suffix = 0;
     if (a->through) { /* not beside a device: /dev may not take files */
         const char *tmpdir = getenv("TMPDIR");
         w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/vdbpack-out.tmp-XXXXXX",
                      tmpdir && *tmpdir ? tmpdir : "/tmp");
-    } else
-        w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/.%s.tmp-XXXXXX", dir,
-                     slash ? slash + 1 : path);
+    } else {
+        /* a short name of its own, not the target's name with more added */
+        suffix = 4;
+        w = snprintf(a->tmp_path, sizeof a->tmp_path, "%s/.vp-XXXXXX.tmp", dir);
+        if (w >= 0 && (size_t)w >= sizeof a->tmp_path) {
+            /* the directory's path leaves no room for it: through a
+             * descriptor of the directory (Linux's /proc/self/fd) */
+            a->dirfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+#ifdef O_PATH
+            if (a->dirfd < 0) a->dirfd = open(dir, O_PATH | O_DIRECTORY | O_CLOEXEC);
+#endif
+            if (a->dirfd < 0) {
+                int e = errno;
+                return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
+            }
+            a->dir_open = 1;
+            w = snprintf(a->tmp_path, sizeof a->tmp_path, "/proc/self/fd/%d/.vp-XXXXXX.tmp",
+                         a->dirfd);
+        }
+    }
     if (w < 0 || (size_t)w >= sizeof a->tmp_path) {
         a->tmp_path[0] = 0;
-        return fail(a, VP_ERR_INVALID_ARGUMENT, "%s: output path too long", path);
+        close_dir(a);
+        return fail(a, VP_ERR_INVALID_ARGUMENT, "%s: cannot write output (%s)", path,
+                    strerror(ENAMETOOLONG));
     }
-    int fd = mkstemp(a->tmp_path);
+    int fd = mkstemps(a->tmp_path, suffix);
     if (fd < 0) {
         int e = errno;
         a->tmp_path[0] = 0;
+        close_dir(a);
         return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(e));
     }
     close(fd);
@@ -221,6 +250,7 @@ vp_result vp_os_atomic_commit(vp_atomic *a) {
         return fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(e));
     }
     a->tmp_path[0] = 0;
+    close_dir(a);
     return VP_OK;
 }
 
@@ -230,4 +260,5 @@ void vp_os_atomic_abort(vp_atomic *a) {
         unlink(a->tmp_path);
         a->tmp_path[0] = 0;
     }
+    if (a) close_dir(a);
 }

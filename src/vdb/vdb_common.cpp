@@ -6,6 +6,7 @@
 // off; vdbpack reports every problem itself. (CMakeLists.txt defines
 // OPENVDB_USE_LOG4CPLUS for every file of this layer.)
 #include "vdb/vdb_internal.hpp"
+#include "os/text.h"
 
 #include <openvdb/util/logging.h>
 
@@ -59,7 +60,7 @@ int fail(char *err, size_t errlen, int code, const char *fmt, ...)
     if (err && errlen) {
         va_list ap;
         va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
+        vp_os_vformat(err, errlen, fmt, ap); // a long path loses its middle, not the end
         va_end(ap);
         for (char *c = err; *c; ++c)
             if (*c == '\n' || *c == '\r' || *c == '\t') *c = ' ';

@@ -561,7 +561,7 @@ echo "--- existing output survives a failure"
 echo keep >keep.vdb
 "$VDBPACK" pack sphere:1 --radius 5 -o keep.vdb >/dev/null 2>&1 && fail "radius 5 in sphere:1 succeeded"
 [ "$(cat keep.vdb)" = keep ] || fail "a failed pack changed the existing keep.vdb"
-ls -a | grep -q '\.keep\.vdb\.tmp' && fail "hidden temp file left beside keep.vdb"
+ls -a | grep -q '^\.vp-.*\.tmp$' && fail "hidden temp file left beside keep.vdb"
 
 # --- help and version ------------------------------------------------------------
 for args in "--help" "pack --help" "info --help" "render --help" "convert --help" "--version"; do
