@@ -243,7 +243,8 @@ VP_API void vp_container_params_init(vp_container_params *p);
  * that is not a regular file (a FIFO, a device, a directory) gives
  * VP_ERR_IO at once. The readers run in child processes (see
  * vp_readers_isolated) bounded by the context's memory limit and cancelled
- * through its progress callback. */
+ * through its progress callback. A mesh of any scale loads (too small a
+ * voxel for OpenVDB's transforms is handled in scaled units). */
 VP_API vp_result vp_container_load(vp_context *ctx, const char *path,
                                    const vp_container_params *params, vp_container **out);
 
@@ -276,7 +277,8 @@ VP_API void vp_container_get_info(const vp_container *c, vp_container_info *info
 VP_API void vp_container_distances(const vp_container *c, const double *points, size_t n,
                                    double *out);
 /* Writes a level-set container as its own .vdb (atomically). Analytic
- * containers are refused with VP_ERR_INVALID_ARGUMENT. */
+ * containers are refused with VP_ERR_INVALID_ARGUMENT, and so is a level
+ * set whose voxel is below VP_POINTS_MIN_VOXEL (a .vdb cannot hold it). */
 VP_API vp_result vp_container_save(vp_context *ctx, const vp_container *c, const char *path);
 
 /* ------------------------------------------------------------------ */

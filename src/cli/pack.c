@@ -846,6 +846,15 @@ int vp_cli_pack(int argc, char **argv) {
 
     vp_container_info ci;
     vp_container_get_info(c, &ci);
+    /* a mesh this small packs (voxelized in scaled units), but OpenVDB's
+     * transforms cannot hold its level set in a file: said before packing */
+    if (o.save_container && ci.voxel_size > 0 && ci.voxel_size < VP_POINTS_MIN_VOXEL) {
+        status = vp_cli_die(2, "pack: --save-container %s: the container's voxel size %g is "
+                               "below the smallest a .vdb can hold (%g); give --voxel-size %g "
+                               "or more, or scale the mesh up", o.save_container,
+                            ci.voxel_size, VP_POINTS_MIN_VOXEL, VP_POINTS_MIN_VOXEL);
+        goto done;
+    }
     if (!strcmp(o.method, "lattice") && o.count && !(lattice_count_radius(&o, &ci) >= FLT_MIN)) {
         status = count_radius_too_small(&o, "about ", lattice_count_radius(&o, &ci));
         goto done;

@@ -378,8 +378,12 @@ void refresh_levelset(vpv_levelset &ls)
             for (int r = 0; r < 3; ++r)
                 v = std::min(v, std::sqrt(m(r, 0) * m(r, 0) + m(r, 1) * m(r, 1) + m(r, 2) * m(r, 2)));
             if (v > 0.0 && std::isfinite(v)) ls.voxel = v;
+            // world points: divided by the scale (exact, a power of two)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 4; ++c) ls.w2i(r, c) /= ls.scale;
         }
     }
+    ls.voxel *= ls.scale;
 }
 
 } // namespace vpv

@@ -56,7 +56,18 @@ std::string jmeta(const openvdb::Metadata &m)
     const std::string t = m.typeName();
     if (t == "string") return jstr(m.str());
     if (t == "bool") return m.asBool() ? "true" : "false";
-    if (t == "int32" || t == "int64" || t == "float" || t == "double") {
+    // doubles in full: `check` reads the packing's voxel_size from here,
+    // and str()'s six digits gave it another voxel size (a cube 1e-6
+    // across then checked two particles 0.37 voxel outside)
+    if (t == "double" || t == "float") {
+        const double v = t == "double" ? static_cast<const openvdb::DoubleMetadata &>(m).value()
+                                       : double(static_cast<const openvdb::FloatMetadata &>(m).value());
+        if (!std::isfinite(v)) return "null";
+        char buf[40];
+        snprintf(buf, sizeof buf, t == "double" ? "%.17g" : "%.9g", v);
+        return buf;
+    }
+    if (t == "int32" || t == "int64") {
         const std::string s = m.str();
         char *end = nullptr;
         const double v = strtod(s.c_str(), &end);

@@ -23,6 +23,13 @@ struct vpv_levelset {
     bool affine = false;        // world->index through w2i
     openvdb::math::Mat4d w2i;   // row-vector convention (v * M)
     double voxel = 1.0;         // smallest voxel edge (world)
+    // World units per unit of the grid (a power of two; 1 but for meshes):
+    // OpenVDB's transforms refuse voxels below about 1.44e-5 ("Non-zero
+    // scale values required"), so a mesh whose voxel is outside
+    // [2^-10, 2^10] is voxelized scaled by 1/scale. The grid's transform,
+    // values and background are in its own units; every vpv_levelset_*
+    // function takes and returns world units (w2i includes the scale).
+    double scale = 1.0;
     double ensured_depth = 0.0; // ensure_interior already satisfied to this depth
     mutable double band = -1.0; // interior band of grid (a walk of every voxel),
                                 // measured on first use; -1: not yet

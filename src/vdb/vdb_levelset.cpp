@@ -164,11 +164,15 @@ extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_le
     });
 }
 
-extern "C" double vpv_levelset_sample(const vpv_levelset *ls, const double p[3])
+namespace {
+
+// The grid's value at world point p, in the grid's units (see
+// vpv_levelset::scale).
+double sample_grid(const vpv_levelset *ls, const double p[3])
 {
-    if (!ls || !ls->grid) return HUGE_VAL;
     openvdb::Vec3d w(p[0], p[1], p[2]);
-    openvdb::Vec3d idx = ls->affine ? ls->w2i.transform(w) : ls->grid->transform().worldToIndex(w);
+    openvdb::Vec3d idx = ls->affine ? ls->w2i.transform(w)
+                                    : ls->grid->transform().worldToIndex(w / ls->scale);
     Acc &acc = accessor(ls);
     // Fast path: when the 8 corners lie in one 8^3 leaf (about 2/3 of
     // lookups), read them from its buffer instead of 8 accessor calls; the
@@ -202,6 +206,14 @@ extern "C" double vpv_levelset_sample(const vpv_levelset *ls, const double p[3])
     return double(openvdb::tools::BoxSampler::sample(acc, idx));
 }
 
+} // namespace
+
+extern "C" double vpv_levelset_sample(const vpv_levelset *ls, const double p[3])
+{
+    if (!ls || !ls->grid) return HUGE_VAL;
+    return ls->scale * sample_grid(ls, p);
+}
+
 extern "C" void vpv_levelset_gradient(const vpv_levelset *ls, const double p[3], double g[3])
 {
     g[0] = g[1] = g[2] = 0.0;
@@ -231,10 +243,31 @@ extern "C" int vpv_levelset_write(const vpv_levelset *ls, const char *path, cons
     return guard(path, Op::Write, err, errlen, [&]() -> int {
         int rc = check_writable(path, err, errlen);
         if (rc != VP_OK) return rc;
+        openvdb::FloatGrid::ConstPtr grid = ls->grid;
+        if (ls->scale != 1.0) {
+            // a scaled grid (vpv_levelset::scale) goes out in world units,
+            // where OpenVDB's transforms allow it
+            if (!(ls->voxel >= VP_POINTS_MIN_VOXEL))
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                            "the level set's voxel size %g is below the smallest OpenVDB's "
+                            "transforms accept (%g): a .vdb cannot hold it; scale the "
+                            "container up", ls->voxel, VP_POINTS_MIN_VOXEL);
+            openvdb::FloatGrid::Ptr w = ls->grid->deepCopy();
+            const float s = float(ls->scale); // a power of two: exact
+            for (auto it = w->tree().beginValueAll(); it; ++it) it.setValue(*it * s);
+            w->tree().root().setBackground(ls->grid->background() * s, false);
+            const openvdb::Vec3d t =
+                ls->grid->transform().baseMap()->getAffineMap()->getMat4().getTranslation() *
+                ls->scale;
+            w->setTransform(openvdb::math::Transform::Ptr(new openvdb::math::Transform(
+                openvdb::math::MapBase::Ptr(
+                    new openvdb::math::UniformScaleTranslateMap(ls->voxel, t)))));
+            grid = w;
+        }
         openvdb::MetaMap fm;
         fill_meta(fm, meta, meta_count, false);
         openvdb::GridCPtrVec grids;
-        grids.push_back(ls->grid);
+        grids.push_back(grid);
         return write_vdb_checked(path, grids, fm, err, errlen);
     });
 }

@@ -27,8 +27,10 @@ extern "C" int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vp
         const openvdb::math::Transform &xf = g.transform();
         // Only an axis-aligned uniform scale (plus translation): then a
         // block is a world-space cube and a point's block is a division.
+        // (in the grid's units; world = scale x grid, vpv_levelset::scale)
+        const double s = ls->scale;
         const openvdb::Vec3d w0 = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
-        const double v = ls->voxel;
+        const double v = ls->voxel / s;
         if (!xf.isLinear() || !(v > 0))
             return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "the transform is not linear");
         for (int a = 0; a < 3; ++a) {
@@ -43,8 +45,12 @@ extern "C" int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vp
             }
         }
         const openvdb::FloatTree &t = g.tree();
+        // every leaf's box: evalLeafBoundingBox counts only leaves with an
+        // active voxel, and a leaf wholly past the band (the winding
+        // route's, deep inside) has none, but must be marked too
         openvdb::CoordBBox bb;
-        if (!t.evalLeafBoundingBox(bb) || bb.empty())
+        for (auto leaf = t.cbeginLeaf(); leaf; ++leaf) bb.expand(leaf->getNodeBoundingBox());
+        if (bb.empty())
             return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "the level set has no leaf nodes");
         // one block of margin on each side: tiles beyond the last leaf
         const openvdb::Coord lo = (bb.min() >> 3) - openvdb::Coord(1, 1, 1);
@@ -91,13 +97,15 @@ extern "C" int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vp
             const openvdb::Coord o = leaf->origin() >> 3;
             val[at(o[0] - lo[0], o[1] - lo[1], o[2] - lo[2])] = nan;
         }
+        if (s != 1.0)
+            for (size_t i = 0; i < nb; ++i) val[i] *= float(s);
         for (int a = 0; a < 3; ++a) {
-            out->origin[a] = w0[a] + double(lo[a]) * 8.0 * v;
+            out->origin[a] = (w0[a] + double(lo[a]) * 8.0 * v) * s;
             out->dims[a] = dims[a];
         }
-        out->block = 8.0 * v;
-        out->voxel = v;
-        out->background = std::fabs(double(g.background()));
+        out->block = 8.0 * v * s;
+        out->voxel = v * s;
+        out->background = std::fabs(double(g.background())) * s;
         out->value = val;
         return VP_OK;
     });

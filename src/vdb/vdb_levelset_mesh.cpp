@@ -37,6 +37,17 @@ struct CentredMesh {
     }
 };
 
+// The scale a mesh is voxelized at (vpv_levelset::scale): 1 for voxels in
+// [2^-10, 2^10], else the power of two that brings the voxel into [1, 2),
+// so that OpenVDB's transform accepts it (a cube 1e-4 across has voxels of
+// 4e-7: "Non-zero scale values required"). Index-space points, and so the
+// voxels' values in voxel units, do not change.
+double grid_scale(double voxel)
+{
+    if (voxel >= 0x1p-10 && voxel <= 0x1p10) return 1.0;
+    return std::ldexp(1.0, std::ilogb(voxel));
+}
+
 } // namespace
 
 namespace {
@@ -107,10 +118,12 @@ extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const 
                          {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])},
                          1.0 / voxel};
         // Built directly (not createLinearTransform + postTranslate) so the
-        // scale stays exactly `voxel` with a large translation.
+        // scale stays exactly `voxel` with a large translation; in the
+        // grid's units (grid_scale)
+        const double s = grid_scale(voxel);
         openvdb::math::Transform::Ptr xf(new openvdb::math::Transform(
             openvdb::math::MapBase::Ptr(new openvdb::math::UniformScaleTranslateMap(
-                voxel, openvdb::Vec3d(mesh.c[0], mesh.c[1], mesh.c[2])))));
+                voxel / s, openvdb::Vec3d(mesh.c[0] / s, mesh.c[1] / s, mesh.c[2] / s)))));
         CallbackInterrupter interrupter;
         interrupter.keep_going = keep_going;
         interrupter.user = user;
@@ -123,6 +136,7 @@ extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const 
         g->setName("container");
         std::unique_ptr<vpv_levelset> ls(new vpv_levelset);
         ls->grid = g;
+        ls->scale = s;
         refresh_levelset(*ls);
         *out = ls.release();
         return VP_OK;

@@ -123,7 +123,7 @@ double surface_voxels(const openvdb::FloatTree &t)
 // get_info, its estimate of a rebuild's cost and ensure_interior all ask.
 double band_of(const vpv_levelset &ls)
 {
-    if (ls.band < 0.0) ls.band = interior_band(*ls.grid);
+    if (ls.band < 0.0) ls.band = interior_band(*ls.grid) * ls.scale; // world units
     return ls.band;
 }
 
@@ -136,11 +136,10 @@ bool deep_enough(const vpv_levelset &ls, double in_depth)
 // The band widths, in voxels, of the rebuild that makes values distances
 // to in_depth inside: interior (want) and exterior (ex). One definition for
 // the rebuild and for the estimate of its cost.
-void band_widths(const openvdb::FloatGrid &g, double voxel, double in_depth, double &want,
-                 double &ex)
+void band_widths(const vpv_levelset &ls, double in_depth, double &want, double &ex)
 {
-    want = std::ceil(in_depth / voxel) + 2.0;
-    ex = std::max(3.0, double(g.background()) / voxel);
+    want = std::ceil(in_depth / ls.voxel) + 2.0;
+    ex = std::max(3.0, double(ls.grid->background()) * ls.scale / ls.voxel);
 }
 
 } // namespace
@@ -165,9 +164,8 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
             return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
                         "level set '%s': voxels are not cubes; cannot widen its interior band",
                         name.c_str());
-        const double voxel = ls->voxel;
         double want, ex;
-        band_widths(g, voxel, in_depth, want, ex);
+        band_widths(*ls, in_depth, want, ex);
         if (!std::isfinite(want) || want > 1e6)
             return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
                         "level set '%s': interior depth %g is %g voxels, too many", name.c_str(),
@@ -191,7 +189,7 @@ extern "C" double vpv_levelset_rebuild_voxels(const vpv_levelset *ls, double in_
         const openvdb::FloatGrid &g = *ls->grid;
         if (deep_enough(*ls, in_depth)) return 0.0;
         double want, ex;
-        band_widths(g, ls->voxel, in_depth, want, ex);
+        band_widths(*ls, in_depth, want, ex);
         const double surface = surface_voxels(g.tree());
         return std::min(surface * (want + ex), inside_voxels + surface * ex);
     } catch (...) {
@@ -210,7 +208,7 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
         const openvdb::math::Transform &xf = g.transform();
         info->voxel_size = ls->voxel;
         snprintf(info->name, sizeof info->name, "%s", g.getName().c_str());
-        info->background = std::fabs(double(g.background()));
+        info->background = std::fabs(double(g.background())) * ls->scale;
         info->active_voxels = size_t(t.activeVoxelCount());
         if (info->active_voxels == 0) return;
         info->interior_band = band_of(*ls);
@@ -224,7 +222,7 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
             openvdb::Vec3d ip((c & 1) ? bb.max().x() : bb.min().x(),
                               (c & 2) ? bb.max().y() : bb.min().y(),
                               (c & 4) ? bb.max().z() : bb.min().z());
-            openvdb::Vec3d w = xf.indexToWorld(ip);
+            openvdb::Vec3d w = xf.indexToWorld(ip) * ls->scale;
             for (int a = 0; a < 3; ++a) {
                 info->bmin[a] = std::min(info->bmin[a], w[a]);
                 info->bmax[a] = std::max(info->bmax[a], w[a]);
@@ -251,10 +249,11 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
         // that meets the outside (surface_voxels) is not in it, so the
         // inside voxels, a lower bound, count too
         const openvdb::Vec3d vs = xf.voxelSize();
-        info->volume = double(inside) * vs[0] * vs[1] * vs[2];
+        const double s3 = ls->scale * ls->scale * ls->scale;
+        info->volume = double(inside) * vs[0] * vs[1] * vs[2] * s3;
         try {
-            info->volume = std::max(
-                info->volume, double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)));
+            info->volume = std::max(info->volume,
+                                    double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)) * s3);
         } catch (...) {
             // (non-cubic voxels and the like: the inside voxels' volume stands)
         }
