@@ -170,14 +170,19 @@ static void test_bad_arrays(void) {
     uint32_t degen[6] = {0, 0, 1, 2, 2, 2};
     r = vp_container_from_mesh(ctx, CUBE_V, 8, degen, 2, &cp, &c);
     expect_error(ctx, VP_ERR_FORMAT, "degenerate", r, c);
-    /* open: one face missing; the hint names the parameter */
+    /* open: one face missing; VP_INSIDE_CLOSED refuses it, naming the
+     * parameter; the default takes it by winding number */
+    cp.inside = VP_INSIDE_CLOSED;
     r = vp_container_from_mesh(ctx, CUBE_V, 8, CUBE_T, 10, &cp, &c);
     expect_error(ctx, VP_ERR_OPEN_MESH, "host: the mesh is not closed: 4 boundary edges", r, c);
-    ASSERT_TRUE(strstr(vp_context_message(ctx), "set allow_open") != NULL);
-    cp.allow_open = 1;
+    ASSERT_TRUE(strstr(vp_context_message(ctx), "set inside to VP_INSIDE_AUTO") != NULL);
+    cp.inside = VP_INSIDE_AUTO;
     ASSERT_OK(ctx, vp_container_from_mesh(ctx, CUBE_V, 8, CUBE_T, 10, &cp, &c));
+    vp_container_info oi;
+    vp_container_get_info(c, &oi);
+    ASSERT_EQ_INT(oi.inside, VP_INSIDE_WINDING);
+    ASSERT_NEAR(oi.volume, 1.0, 0.05);
     vp_container_destroy(c);
-    cp.allow_open = 0;
     /* flat: a closed, manifold mesh (a tetrahedron's topology) of four
      * coplanar points, which encloses no volume */
     double flat_v[4 * 3] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};

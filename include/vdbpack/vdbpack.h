@@ -182,6 +182,34 @@ typedef enum vp_container_kind {
     VP_CONTAINER_LEVEL_SET
 } vp_container_kind;
 
+/* How the inside of a mesh container is decided (docs/design.md, "Inside
+ * of a mesh"). */
+typedef enum vp_inside_mode {
+    VP_INSIDE_AUTO = 0, /* closed, consistently oriented meshes of pieces that
+                           do not overlap as OpenVDB voxelizes closed surfaces;
+                           any other mesh by its winding number */
+    VP_INSIDE_CLOSED,   /* closed, consistently oriented meshes only (others
+                           are refused with VP_ERR_OPEN_MESH); overlapping
+                           or nested pieces by their winding number */
+    VP_INSIDE_WINDING   /* every mesh by its generalized winding number:
+                           inside where it is at least 0.5 */
+} vp_inside_mode;
+/* "auto", "closed", "winding"; NULL for an invalid value. */
+VP_API const char *vp_inside_name(vp_inside_mode m);
+/* Parses an inside mode's name; returns 0 on success. */
+VP_API int vp_inside_parse(const char *name, vp_inside_mode *out);
+
+/* How vp_container_info.volume_estimate was found. */
+typedef enum vp_volume_estimate {
+    VP_ESTIMATE_NONE = 0,    /* no estimate (level sets, analytic containers) */
+    VP_ESTIMATE_MESH_VOLUME, /* the mesh's signed volume (closed pieces that
+                                do not overlap; cavities count negative) */
+    VP_ESTIMATE_WINDING      /* the fraction of a grid of 64 samples along
+                                the longest side of the mesh's bounding box
+                                (grown by a tenth each way for an open
+                                mesh) whose winding number is at least 0.5 */
+} vp_volume_estimate;
+
 /* What is known about a container (filled by the library). */
 typedef struct vp_container_info {
     vp_container_kind kind;
@@ -199,7 +227,28 @@ typedef struct vp_container_info {
     size_t mesh_triangles;
     size_t boundary_edges;
     size_t nonmanifold_edges;
-    double mesh_volume;       /* |signed volume| of the mesh */
+    double mesh_volume;       /* |signed volume| of the mesh as read */
+    size_t inconsistent_edges; /* edges where the two triangles run the same
+                                 way (the orientation flips there) */
+    size_t mesh_pieces;       /* connected pieces */
+    vp_inside_mode inside;    /* how the inside was decided: VP_INSIDE_CLOSED
+                                 (OpenVDB's closed-surface voxelization) or
+                                 VP_INSIDE_WINDING */
+    /* what the winding route mended before counting (0 otherwise) */
+    size_t duplicate_triangles;  /* second copies dropped */
+    size_t opposite_triangles;   /* triangles dropped with their reverse */
+    size_t reoriented_triangles; /* turned to agree with their neighbours */
+    size_t turned_pieces;        /* pieces turned the right way out */
+    size_t cavities;             /* reversed closed pieces kept as cavities */
+    /* an independent estimate of the inside's volume (mesh containers) */
+    vp_volume_estimate volume_estimate_kind;
+    double volume_estimate;
+    int volume_mismatch;      /* 1: volume and volume_estimate differ by more
+                                 than 5 % of the estimate (the voxel size
+                                 loses thin parts, or the mesh is broken in a
+                                 way the inside cannot mend) */
+    /* fog (density) containers: the iso value the inside was taken at */
+    double iso;
 } vp_container_info;
 
 /* Analytic containers (exact; for tests and simple jobs). */
@@ -224,8 +273,16 @@ typedef struct vp_container_params {
                                  bounding radius 1 takes up in the packing
                                  (shape volume / packing fraction);
                                  0 = spheres on FCC */
-    int allow_open;           /* voxelize open/non-manifold meshes anyway */
-    const char *grid_name;    /* .vdb: grid to use; NULL = first level set */
+    vp_inside_mode inside;    /* meshes: how the inside is decided (default
+                                 VP_INSIDE_AUTO) */
+    const char *grid_name;    /* .vdb: grid to use; NULL = the first float
+                                 level set (or, with has_iso, the first float
+                                 grid) */
+    int has_iso;              /* .vdb: 1 to take a fog or density grid as the
+                                 container: inside where its value >= iso
+                                 (Houdini's convention for fog to SDF),
+                                 converted to a level set by OpenVDB */
+    double iso;
     int narrow_band;          /* 1: the interior band reaches just past
                                  particle_radius (1.02 r + 0.9 voxel, at
                                  least 3 voxels): enough for the lattice
@@ -254,8 +311,8 @@ VP_API vp_result vp_container_load(vp_context *ctx, const char *path,
  * into them (from 0; counter-clockwise seen from outside, though a closed
  * mesh's inside does not depend on it). Welded, checked and voxelized
  * exactly as a mesh file is by vp_container_load, with the same errors (an
- * open or non-manifold mesh unless params->allow_open: VP_ERR_OPEN_MESH; a
- * mesh that encloses no volume: VP_ERR_BAD_CONTAINER; ...), and for the
+ * open or inconsistently oriented mesh with params->inside VP_INSIDE_CLOSED:
+ * VP_ERR_OPEN_MESH; a mesh with no inside: VP_ERR_BAD_CONTAINER; ...), and for the
  * arrays VP_ERR_INVALID_ARGUMENT: a NULL pointer, a pointer not aligned
  * for its type, an index out of range, a non-finite coordinate. The arrays
  * are only read, during the call; params->name names the mesh in messages.

@@ -37,7 +37,10 @@ const char *VP_CHECK_HELP =
     "  --grid NAME             level-set grid of a .vdb container\n"
     "  --shape FILE            the particle mesh, for packings of a mesh shape\n"
     "                          (the one given to pack --shape; required for them)\n"
-    "  --allow-open            voxelize an open mesh anyway\n"
+    "  --inside auto|closed|winding  how the inside of a mesh container is\n"
+    "                          decided (default: the packing's, else auto)\n"
+    "  --iso V                 a fog or density .vdb container: inside where the\n"
+    "                          grid's value is >= V (default: the packing's)\n"
     "  --json                  print the report as JSON on stdout\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
@@ -57,8 +60,9 @@ static const char *meta_value(const char *json, const char *key) {
 
 int vp_cli_check(int argc, char **argv) {
     const char *file = NULL, *cont = NULL, *grid = NULL, *shape_file = NULL;
-    int json = 0, quiet = 0, allow_open = 0, fit_set = 0;
-    double voxel = 0;
+    int json = 0, quiet = 0, fit_set = 0, inside_set = 0, has_iso = 0;
+    vp_inside_mode inside = VP_INSIDE_AUTO;
+    double voxel = 0, iso = 0;
     vp_check_params cp;
     vp_check_params_init(&cp);
     vp_cli_seen seen = {0};
@@ -102,7 +106,19 @@ int vp_cli_check(int argc, char **argv) {
             NEED();
             shape_file = v;
         } else if (!strcmp(a, "--allow-open")) {
-            allow_open = 1;
+            return vp_cli_die(2, "check: --allow-open was removed in 0.2.0: an open mesh now gets "
+                                 "the inside its winding number gives (--inside auto, the "
+                                 "default); see CHANGELOG.md");
+        } else if (!strcmp(a, "--inside")) {
+            NEED();
+            if (vp_inside_parse(v, &inside) != 0)
+                return vp_cli_die(2, "check: unknown --inside '%s' (auto, closed, winding)", v);
+            inside_set = 1;
+        } else if (!strcmp(a, "--iso")) {
+            NEED();
+            if (vp_cli_parse_double(v, &iso) != 0)
+                return vp_cli_die(2, "check: --iso must be a number, not '%s'", v);
+            has_iso = 1;
         } else if (!strcmp(a, "--json")) {
             json = 1;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
@@ -142,6 +158,21 @@ int vp_cli_check(int argc, char **argv) {
     {
         const char *f = meta_value(desc, "fit");
         if (f && !fit_set) cp.fit = !strncmp(f, "\"center\"", 8) ? VP_FIT_CENTER : VP_FIT_INSIDE;
+        const char *in = meta_value(desc, "inside");
+        if (in && !inside_set) {
+            char mode[16] = "";
+            if (*in == '"') sscanf(in + 1, "%15[^\"]", mode);
+            vp_inside_parse(mode, &inside); /* an unknown value keeps auto */
+        }
+        const char *is = meta_value(desc, "iso");
+        /* a fog container's iso; not carried over to another kind */
+        if (is && !has_iso && vp_format_from_path(cont) == VP_FORMAT_VDB) {
+            double x = strtod(is, NULL);
+            if (isfinite(x)) {
+                iso = x;
+                has_iso = 1;
+            }
+        }
         const char *vs = meta_value(desc, "voxel_size");
         if (vs && !(voxel > 0)) {
             double x = strtod(vs, NULL);
@@ -170,9 +201,9 @@ int vp_cli_check(int argc, char **argv) {
                                "with positive sizes)", cont);
         goto done;
     }
-    if (an > 0 && (voxel > 0 || grid)) {
-        status = vp_cli_die(2, "check: --voxel-size and --grid need a mesh or .vdb container, "
-                               "not '%s'", cont);
+    if (an > 0 && (voxel > 0 || grid || inside_set || has_iso)) {
+        status = vp_cli_die(2, "check: --voxel-size, --grid, --inside and --iso need a mesh or "
+                               ".vdb container, not '%s'", cont);
         goto done;
     }
     if (an == 0) {
@@ -181,12 +212,17 @@ int vp_cli_check(int argc, char **argv) {
         kp.voxel_size = voxel;
         kp.particle_radius = rmax > 0 ? rmax : 0;
         kp.particle_count = p->count;
-        kp.allow_open = allow_open;
+        kp.inside = inside;
+        kp.has_iso = has_iso;
+        kp.iso = iso;
         kp.grid_name = grid;
         if (vp_container_load(ctx, cont, &kp, &c) != VP_OK) {
             status = vp_cli_die(1, "%s", vp_context_message(ctx));
             goto done;
         }
+        vp_container_info ci;
+        vp_container_get_info(c, &ci);
+        if (!quiet) vp_cli_warn_container(&ci);
     }
     vp_check_report rep;
     if (vp_check_particles(ctx, c, p, &cp, &rep) != VP_OK) {

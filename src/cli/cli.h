@@ -132,6 +132,12 @@ struct vp_mesh_shape;
 int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file,
                        const char *recorded, const char *shape_file, struct vp_particles *p,
                        struct vp_mesh_shape **mesh);
+/* The summary lines of a mesh container (pieces, how its inside was
+ * decided and mended, the volume estimate), and the warning line on
+ * stderr when its volume and the estimate differ by more than 5 %. */
+struct vp_container_info;
+void vp_cli_print_mesh_container(FILE *f, const struct vp_container_info *ci);
+void vp_cli_warn_container(const struct vp_container_info *ci);
 /* Writes s as a JSON string literal. */
 void vp_cli_json_string(FILE *f, const char *s);
 #endif

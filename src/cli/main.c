@@ -16,7 +16,7 @@
 #include "cli/cli.h"
 
 static const char *MAIN_HELP =
-    "vdbpack " VP_VERSION_STRING ": fill a closed container with non-overlapping particles\n"
+    "vdbpack " VP_VERSION_STRING ": fill a container with non-overlapping particles\n"
     "and write them as OpenVDB points.\n"
     "\n"
     "Usage:\n"
@@ -29,9 +29,10 @@ static const char *MAIN_HELP =
     "  vdbpack --version                             print the version\n"
     "  vdbpack --help                                this text\n"
     "\n"
-    "CONTAINER is a closed mesh (OBJ, PLY, STL, glTF, ... anything Assimp reads),\n"
-    "a .vdb holding a float level set, or an analytic shape: sphere:R or box:X,Y,Z\n"
-    "(both centred at the origin).\n";
+    "CONTAINER is a mesh (OBJ, PLY, STL, glTF, ... anything Assimp reads; closed or\n"
+    "not: an open or broken mesh is taken by its winding number, see --inside), a\n"
+    ".vdb holding a float level set (or a fog grid, with --iso), or an analytic\n"
+    "shape: sphere:R or box:X,Y,Z (both centred at the origin).\n";
 
 static const char *PACK_HELP =
     "Usage: vdbpack pack CONTAINER -o OUT.vdb [options]\n"
@@ -93,7 +94,13 @@ static const char *PACK_HELP =
     "\n"
     "Container:\n"
     "  --voxel-size V          voxel size for meshes (default: automatic, see summary)\n"
-    "  --allow-open            voxelize open or non-manifold meshes anyway\n"
+    "  --inside auto|closed|winding  how a mesh's inside is decided: auto (default):\n"
+    "                          a closed, consistently oriented mesh as a closed\n"
+    "                          surface, any other (open, holed, overlapping or\n"
+    "                          nested pieces, flipped faces) by its winding number;\n"
+    "                          closed: refuse other meshes; winding: always\n"
+    "  --iso V                 a fog or density .vdb grid as the container: inside\n"
+    "                          where its value is >= V\n"
     "  --grid NAME             level-set grid to use from a .vdb (default: the first;\n"
     "                          NAME[k]: the k-th of several grids named NAME)\n"
     "\n"

@@ -43,7 +43,10 @@ typedef struct pack_opts {
     uint64_t rotations;
     uint64_t seed;
     double voxel_size;
-    int allow_open;
+    vp_inside_mode inside;  /* --inside (meshes) */
+    int inside_set;
+    int has_iso;            /* --iso V (fog or density .vdb grids) */
+    double iso;
     const char *grid;
     int full_precision;
     const char *save_container;
@@ -331,7 +334,19 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             if (vp_cli_parse_double(v, &o->voxel_size) != 0 || !(o->voxel_size > 0))
                 return vp_cli_die(2, "pack: --voxel-size must be a positive number, not '%s'", v);
         } else if (!strcmp(a, "--allow-open")) {
-            o->allow_open = 1;
+            return vp_cli_die(2, "pack: --allow-open was removed in 0.2.0: an open mesh now gets "
+                                 "the inside its winding number gives (--inside auto, the "
+                                 "default; --inside winding forces it); see CHANGELOG.md");
+        } else if (!strcmp(a, "--inside")) {
+            VALUE();
+            if (vp_inside_parse(v, &o->inside) != 0)
+                return vp_cli_die(2, "pack: unknown --inside '%s' (auto, closed, winding)", v);
+            o->inside_set = 1;
+        } else if (!strcmp(a, "--iso")) {
+            VALUE();
+            if (vp_cli_parse_double(v, &o->iso) != 0)
+                return vp_cli_die(2, "pack: --iso must be a number, not '%s'", v);
+            o->has_iso = 1;
         } else if (!strcmp(a, "--grid")) {
             VALUE();
             o->grid = v;
@@ -535,7 +550,9 @@ static void relax_params(const pack_opts *o, vp_relax_params *xp) {
 static void container_params(const pack_opts *o, vp_container_params *cp) {
     vp_container_params_init(cp);
     cp->voxel_size = o->voxel_size;
-    cp->allow_open = o->allow_open;
+    cp->inside = o->inside;
+    cp->has_iso = o->has_iso;
+    cp->iso = o->iso;
     cp->grid_name = o->grid;
     if (!strcmp(o->method, "lattice")) {
         vp_lattice_params lp;
@@ -624,6 +641,20 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
     vp_cli_json_string(stdout, ci->grid_name);
     printf(",\"mesh_triangles\":%zu,\"boundary_edges\":%zu,\"nonmanifold_edges\":%zu",
            ci->mesh_triangles, ci->boundary_edges, ci->nonmanifold_edges);
+    if (ci->kind == VP_CONTAINER_MESH) {
+        printf(",\"inconsistent_edges\":%zu,\"pieces\":%zu,\"inside\":\"%s\"",
+               ci->inconsistent_edges, ci->mesh_pieces,
+               ci->inside == VP_INSIDE_WINDING ? "winding" : "closed");
+        printf(",\"duplicate_triangles\":%zu,\"opposite_triangles\":%zu,"
+               "\"reoriented_triangles\":%zu,\"turned_pieces\":%zu,\"cavities\":%zu",
+               ci->duplicate_triangles, ci->opposite_triangles, ci->reoriented_triangles,
+               ci->turned_pieces, ci->cavities);
+        printf(",\"volume_estimate\":%.17g,\"volume_estimate_kind\":\"%s\","
+               "\"volume_mismatch\":%s", ci->volume_estimate,
+               ci->volume_estimate_kind == VP_ESTIMATE_MESH_VOLUME ? "mesh_volume" : "winding",
+               ci->volume_mismatch ? "true" : "false");
+    }
+    if (o->has_iso) printf(",\"iso\":%.17g", o->iso);
     printf(",\"method\":\"%s\",\"shape\":\"%s\",\"fit\":\"%s\"", o->method,
            vp_shape_name(o->shape), o->fit == VP_FIT_INSIDE ? "inside" : "center");
     if (o->mesh) {
@@ -697,10 +728,7 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                !strcmp(o->method, "rsa") ? "random sequential addition" : "relaxation",
                o->container);
     if (ci->kind == VP_CONTAINER_MESH)
-        printf("  container: mesh, %zu triangles (%zu vertices after welding %zu), "
-               "level-set volume %.6g (mesh volume %.6g)\n",
-               ci->mesh_triangles, ci->mesh_vertices, ci->mesh_vertices_raw, ci->volume,
-               ci->mesh_volume);
+        vp_cli_print_mesh_container(stdout, ci);
     else if (ci->kind == VP_CONTAINER_LEVEL_SET)
         printf("  container: level set '%s', %zu active voxels, volume %.6g\n", ci->grid_name,
                ci->active_voxels, ci->volume);
@@ -838,14 +866,15 @@ int vp_cli_pack(int argc, char **argv) {
             status = lib_error(ctx);
             goto done;
         }
-    } else if (o.voxel_size > 0 || o.grid || o.save_container) {
-        status = vp_cli_die(2, "pack: --voxel-size, --grid and --save-container need a mesh or "
-                               ".vdb container, not '%s'", o.container);
+    } else if (o.voxel_size > 0 || o.grid || o.save_container || o.inside_set || o.has_iso) {
+        status = vp_cli_die(2, "pack: --voxel-size, --grid, --inside, --iso and --save-container "
+                               "need a mesh or .vdb container, not '%s'", o.container);
         goto done;
     }
 
     vp_container_info ci;
     vp_container_get_info(c, &ci);
+    if (!o.quiet) vp_cli_warn_container(&ci);
     /* a mesh this small packs (voxelized in scaled units), but OpenVDB's
      * transforms cannot hold its level set in a file: said before packing */
     if (o.save_container && ci.voxel_size > 0 && ci.voxel_size < VP_POINTS_MIN_VOXEL) {
@@ -895,7 +924,7 @@ int vp_cli_pack(int argc, char **argv) {
     join_args(argc, argv, cmdline, sizeof cmdline);
     const char *cname = strrchr(o.container, '/');
     cname = cname ? cname + 1 : o.container;
-    vp_meta meta[20] = {
+    vp_meta meta[24] = {
         {"creator", VP_META_STRING, "vdbpack " VP_VERSION_STRING, 0, 0},
         {"command_line", VP_META_STRING, cmdline, 0, 0},
         {"seed", VP_META_INT, NULL, (int64_t)o.seed, 0},
@@ -911,6 +940,9 @@ int vp_cli_pack(int argc, char **argv) {
     };
     size_t nmeta = 12;
     if (o.mesh) meta[nmeta++] = (vp_meta){"shape_file", VP_META_STRING, vp_mesh_shape_name(o.mesh), 0, 0};
+    if (ci.kind == VP_CONTAINER_MESH)
+        meta[nmeta++] = (vp_meta){"inside", VP_META_STRING, vp_inside_name(o.inside), 0, 0};
+    if (o.has_iso) meta[nmeta++] = (vp_meta){"iso", VP_META_DOUBLE, NULL, 0, o.iso};
     if (!strcmp(o.method, "lattice")) {
         meta[nmeta++] = (vp_meta){"lattice", VP_META_STRING, lattice_label(&o), 0, 0};
         meta[nmeta++] = (vp_meta){"radius", VP_META_DOUBLE, NULL, 0, rr.lat.radius};

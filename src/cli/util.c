@@ -299,3 +299,72 @@ void vp_cli_divert_stdout(const char *path) {
     fflush(stdout);
     dup2(2, 1);
 }
+
+/* "1 piece", "3 pieces", ... */
+static const char *plural(size_t n, const char *one, const char *many) {
+    return n == 1 ? one : many;
+}
+
+void vp_cli_print_mesh_container(FILE *f, const vp_container_info *ci) {
+    fprintf(f, "  container: mesh, %zu triangles (%zu vertices after welding %zu), %zu %s, "
+               "level-set volume %.6g\n",
+            ci->mesh_triangles, ci->mesh_vertices, ci->mesh_vertices_raw, ci->mesh_pieces,
+            plural(ci->mesh_pieces, "piece", "pieces"), ci->volume);
+    if (ci->inside == VP_INSIDE_WINDING) {
+        fprintf(f, "  inside: by winding number (%zu boundary, %zu non-manifold, %zu inconsistently "
+                   "oriented edges)",
+                ci->boundary_edges, ci->nonmanifold_edges, ci->inconsistent_edges);
+        size_t mended = ci->duplicate_triangles + ci->opposite_triangles +
+                        ci->reoriented_triangles + ci->turned_pieces + ci->cavities;
+        if (mended) {
+            const char *sep = "; ";
+            if (ci->duplicate_triangles) {
+                fprintf(f, "%s%zu duplicate %s dropped", sep, ci->duplicate_triangles,
+                        plural(ci->duplicate_triangles, "triangle", "triangles"));
+                sep = ", ";
+            }
+            if (ci->opposite_triangles) {
+                fprintf(f, "%s%zu back-to-back triangles dropped", sep, ci->opposite_triangles);
+                sep = ", ";
+            }
+            if (ci->reoriented_triangles) {
+                fprintf(f, "%s%zu %s turned to agree with their neighbours", sep,
+                        ci->reoriented_triangles,
+                        plural(ci->reoriented_triangles, "triangle", "triangles"));
+                sep = ", ";
+            }
+            if (ci->turned_pieces) {
+                fprintf(f, "%s%zu inside-out %s turned", sep, ci->turned_pieces,
+                        plural(ci->turned_pieces, "piece", "pieces"));
+                sep = ", ";
+            }
+            if (ci->cavities)
+                fprintf(f, "%s%zu reversed inner %s kept as %s", sep, ci->cavities,
+                        plural(ci->cavities, "shell", "shells"),
+                        plural(ci->cavities, "a cavity", "cavities"));
+        }
+        fputc('\n', f);
+    } else {
+        fprintf(f, "  inside: closed surface (OpenVDB's voxelization)\n");
+    }
+    if (ci->volume_estimate_kind != VP_ESTIMATE_NONE)
+        fprintf(f, "  volume estimate %.6g (%s)\n", ci->volume_estimate,
+                ci->volume_estimate_kind == VP_ESTIMATE_MESH_VOLUME
+                    ? "the mesh's signed volume"
+                    : "winding number on a 64-sample grid");
+}
+
+void vp_cli_warn_container(const vp_container_info *ci) {
+    if (!ci->volume_mismatch) return;
+    double rel = ci->volume_estimate > 0
+                     ? 100.0 * (ci->volume - ci->volume_estimate) / ci->volume_estimate
+                     : 0.0;
+    fprintf(stderr,
+            "vdbpack: warning: the container's inside (volume %.6g) differs from the %s "
+            "(%.6g) by %+.1f %%: the voxel size %g may lose thin parts (try a smaller "
+            "--voxel-size), or the mesh is broken in a way its inside cannot mend\n",
+            ci->volume,
+            ci->volume_estimate_kind == VP_ESTIMATE_MESH_VOLUME ? "mesh's signed volume"
+                                                                : "volume its winding number gives",
+            ci->volume_estimate, rel, ci->voxel_size);
+}

@@ -17,6 +17,8 @@ typedef struct vp_mesh {
     uint32_t *tris;       /* 3*ntris, owned */
     size_t boundary_edges;     /* edges used by exactly one triangle */
     size_t nonmanifold_edges;  /* edges used by three or more triangles */
+    size_t inconsistent_edges; /* edges of two triangles that run along it the
+                                  same way (the orientation flips there) */
     size_t zero_area_tris;
     size_t components;         /* connected components (by shared edges) */
     double signed_volume;      /* divergence theorem; > 0: outward normals */
@@ -84,6 +86,38 @@ void vp_weld_free(vp_weld *w);
  * degenerate so far. VP_OK or VP_ERR_OUT_OF_MEMORY; w is left as it was. */
 vp_result vp_mesh_finish(vp_weld *w, uint32_t *tris, size_t ntri, size_t nraw,
                          size_t zero_area_tris, vp_mesh **out);
+/* What vp_mesh_prepare_winding changed. */
+typedef struct vp_mesh_repair {
+    size_t duplicate_triangles;  /* dropped: a second copy of a triangle */
+    size_t opposite_triangles;   /* dropped: a triangle and its reverse, which cancel */
+    size_t reoriented_triangles; /* turned to agree with their neighbours */
+    size_t pieces;               /* connected pieces */
+    size_t open_pieces;          /* pieces with boundary or non-manifold edges */
+    size_t turned_pieces;        /* pieces turned inside out as a whole */
+    size_t cavities;             /* closed reversed pieces kept as cavities */
+    int pieces_overlap;          /* 1: the bounding boxes of two pieces overlap
+                                    (they may cross or nest) */
+} vp_mesh_repair;
+/* Readies m's triangles for the winding-number inside (mesh_inside.c):
+ * drops duplicates, orients each piece consistently, turns inside-out
+ * pieces, keeps reversed closed pieces that lie inside the rest as
+ * cavities; then counts again (vp_mesh_recount). rep may be NULL. VP_OK or
+ * VP_ERR_OUT_OF_MEMORY. */
+vp_result vp_mesh_prepare_winding(vp_mesh *m, vp_mesh_repair *rep);
+/* Boxes around the mesh's holes, where the winding number's film may span
+ * them: one a rim (boundary edges joined by their vertices), its bounds
+ * grown by half its diagonal each way within the mesh's bounds grown by a
+ * tenth of their diagonal; 6 doubles a
+ * box (min, max). *boxes is malloc'd (free()), NULL when there are none.
+ * VP_OK or VP_ERR_OUT_OF_MEMORY. */
+vp_result vp_mesh_hole_boxes(const vp_mesh *m, double **boxes, size_t *nboxes);
+/* One byte a triangle: 1 when one of its edges is a boundary edge (a
+ * hole's rim). malloc'd (free()); NULL when out of memory. */
+uint8_t *vp_mesh_rim_triangles(const vp_mesh *m);
+/* Counts again what depends on the triangles (after they changed): bounds,
+ * signed volume, boundary, non-manifold and inconsistent edges,
+ * components. VP_OK or VP_ERR_OUT_OF_MEMORY. */
+vp_result vp_mesh_recount(vp_mesh *m);
 /* "nan", "inf" or "-inf". */
 const char *vp_mesh_nonfinite_name(double v);
 #endif

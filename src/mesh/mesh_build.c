@@ -5,6 +5,7 @@
  * topology here, so that a mesh gives the same container either way. No
  * Assimp in this file. */
 #include "mesh/mesh.h"
+#include "core/mesh_topo.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -37,46 +38,30 @@ static uint64_t hash_pos(const double p[3])
     return mix64(h);
 }
 
-/* ------------------------------------------------------------------ */
-/* Edges, sorted by (a, b) with a < b.                                 */
-
-typedef struct edge_rec {
-    uint64_t key; /* (uint64)a << 32 | b */
-    uint32_t tri;
-} edge_rec;
-
-static int cmp_edge(const void *pa, const void *pb)
+/* 1 when the triangle's corners are collinear (zero area, to rounding). */
+static int zero_area(const double *p0, const double *p1, const double *p2)
 {
-    const edge_rec *a = pa, *b = pb;
-    if (a->key != b->key)
-        return a->key < b->key ? -1 : 1;
-    return a->tri < b->tri ? -1 : (a->tri > b->tri);
-}
-
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
+    double e1[3], e2[3], e3[3];
+    for (int k = 0; k < 3; ++k) {
+        e1[k] = p1[k] - p0[k];
+        e2[k] = p2[k] - p0[k];
+        e3[k] = p2[k] - p1[k];
     }
-    return x;
+    double cx = e1[1] * e2[2] - e1[2] * e2[1];
+    double cy = e1[2] * e2[0] - e1[0] * e2[2];
+    double cz = e1[0] * e2[1] - e1[1] * e2[0];
+    double area2 = sqrt(cx * cx + cy * cy + cz * cz);
+    double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+    double l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    double l3 = e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2];
+    double lmax = l1 > l2 ? l1 : l2;
+    if (l3 > lmax) lmax = l3;
+    return area2 <= 1e-12 * lmax;
 }
 
-static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a != b) {
-        if (a < b)
-            parent[b] = a;
-        else
-            parent[a] = b;
-    }
-}
-
-/* Topology, bbox and volume of m (verts and tris already set). Returns
- * VP_OK or VP_ERR_OUT_OF_MEMORY. */
-static vp_result compute_topology(vp_mesh *m)
+/* Topology, bbox and volume of m (verts and tris already set; see
+ * mesh.h). Returns VP_OK or VP_ERR_OUT_OF_MEMORY. */
+vp_result vp_mesh_recount(vp_mesh *m)
 {
     size_t nt = m->ntris, ne = 3 * nt;
     for (int k = 0; k < 3; ++k) {
@@ -106,63 +91,36 @@ static vp_result compute_topology(vp_mesh *m)
         }
         vol += a[0] * (b[1] * d[2] - b[2] * d[1]) + a[1] * (b[2] * d[0] - b[0] * d[2]) +
                a[2] * (b[0] * d[1] - b[1] * d[0]);
-        /* Geometrically zero-area triangle (collinear corners). */
-        double e1[3], e2[3], e3[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = p1[k] - p0[k];
-            e2[k] = p2[k] - p0[k];
-            e3[k] = p2[k] - p1[k];
-        }
-        double cx = e1[1] * e2[2] - e1[2] * e2[1];
-        double cy = e1[2] * e2[0] - e1[0] * e2[2];
-        double cz = e1[0] * e2[1] - e1[1] * e2[0];
-        double area2 = sqrt(cx * cx + cy * cy + cz * cz);
-        double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
-        double l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-        double l3 = e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2];
-        double lmax = l1 > l2 ? l1 : l2;
-        if (l3 > lmax) lmax = l3;
-        if (area2 <= 1e-12 * lmax)
-            m->zero_area_tris++;
     }
     m->signed_volume = vol / 6.0;
 
-    edge_rec *edges = malloc((ne ? ne : 1) * sizeof *edges);
+    vp_edge_side *edges = vp_edge_sides(m->tris, nt);
     uint32_t *parent = malloc((nt ? nt : 1) * sizeof *parent);
     if (!edges || !parent) {
         free(edges);
         free(parent);
         return VP_ERR_OUT_OF_MEMORY;
     }
-    for (size_t t = 0; t < nt; ++t) {
+    for (size_t t = 0; t < nt; ++t)
         parent[t] = (uint32_t)t;
-        for (int j = 0; j < 3; ++j) {
-            uint32_t a = m->tris[3 * t + j], b = m->tris[3 * t + (j + 1) % 3];
-            if (a > b) {
-                uint32_t s = a;
-                a = b;
-                b = s;
-            }
-            edges[3 * t + j].key = ((uint64_t)a << 32) | b;
-            edges[3 * t + j].tri = (uint32_t)t;
-        }
-    }
-    qsort(edges, ne, sizeof *edges, cmp_edge);
+    m->boundary_edges = m->nonmanifold_edges = m->inconsistent_edges = 0;
     for (size_t i = 0; i < ne;) {
         size_t j = i + 1;
         while (j < ne && edges[j].key == edges[i].key) {
-            uf_union(parent, edges[i].tri, edges[j].tri);
+            vp_uf_union(parent, edges[i].tri, edges[j].tri);
             ++j;
         }
         if (j - i == 1)
             m->boundary_edges++;
         else if (j - i >= 3)
             m->nonmanifold_edges++;
+        else if (edges[i].forward == edges[i + 1].forward)
+            m->inconsistent_edges++; /* both triangles run the same way along it */
         i = j;
     }
     m->components = 0;
     for (size_t t = 0; t < nt; ++t)
-        if (uf_find(parent, (uint32_t)t) == t)
+        if (vp_uf_find(parent, (uint32_t)t) == t)
             m->components++;
     free(edges);
     free(parent);
@@ -257,7 +215,11 @@ vp_result vp_mesh_finish(vp_weld *w, uint32_t *tris, size_t ntri, size_t nraw,
     m->nverts = nv;
     m->ntris = ntri;
     m->zero_area_tris = zero_area_tris;
-    vp_result r = compute_topology(m);
+    for (size_t t = 0; t < ntri; ++t)
+        m->zero_area_tris += (size_t)zero_area(m->verts + 3 * (size_t)tris[3 * t],
+                                               m->verts + 3 * (size_t)tris[3 * t + 1],
+                                               m->verts + 3 * (size_t)tris[3 * t + 2]);
+    vp_result r = vp_mesh_recount(m);
     if (r != VP_OK) {
         vp_mesh_destroy(m);
         return r;

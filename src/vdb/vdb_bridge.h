@@ -65,6 +65,35 @@ int vpv_levelset_from_mesh(const double *verts, size_t nverts,
                            int (*keep_going)(void *user), void *user,
                            vpv_levelset **out, char *err, size_t errlen);
 
+/* The winding numbers of a mesh, for vpv_levelset_from_mesh_winding.
+ * Both calls come from several threads at once. */
+typedef struct vpv_winding_ops {
+    void *user;
+    /* w[i] at the n world points pts[3i..3i+2] */
+    void (*points)(void *user, const double *pts, size_t n, double *w);
+    /* w[64 i + 8 j + k] at the world points lo + h * (i, j, k), i, j, k in
+     * 0..7 (a leaf node's voxels in OpenVDB's order) */
+    void (*block)(void *user, const double lo[3], double h, double *w);
+} vpv_winding_ops;
+
+/* As vpv_levelset_from_mesh, with the inside where the winding number is
+ * at least 0.5 instead of OpenVDB's closed-surface sign: the unsigned
+ * distance to the triangles (meshToVolume, max(ex_band, in_band) voxels on
+ * both sides), each voxel's sign from winding; where the mesh has holes
+ * (holes: nholes boxes of 6 doubles, world min and max, around them) the
+ * film where the winding number crosses 0.5 away from the triangles is
+ * found on a grid of 8-voxel blocks, made leaves, and the distances to it
+ * and to the triangles are solved again together (OpenVDB's fast
+ * sweeping); tiles beyond the leaves take the sign of the winding number at
+ * their centres. */
+int vpv_levelset_from_mesh_winding(const double *verts, size_t nverts,
+                                   const uint32_t *tris, size_t ntris,
+                                   double voxel, double ex_band, double in_band,
+                                   const vpv_winding_ops *winding,
+                                   const double *holes, size_t nholes,
+                                   int (*keep_going)(void *user), void *user,
+                                   vpv_levelset **out, char *err, size_t errlen);
+
 /* Reads a level set from a .vdb. grid_name NULL: the first float level set
  * (GRID_LEVEL_SET class, float or double values; double is converted);
  * otherwise the grid with that name ("" = unnamed). A file without such a
@@ -74,9 +103,19 @@ int vpv_levelset_from_mesh(const double *verts, size_t nverts,
 int vpv_levelset_read(const char *path, const char *grid_name,
                       vpv_levelset **out, char *err, size_t errlen);
 
+/* A fog or density grid as a level set (vp_container_params.has_iso):
+ * grid_name NULL picks the first float grid that is not a level set; the
+ * inside is where the grid's value is at least iso, converted by OpenVDB's
+ * fast sweeping (fogToSdf) at the grid's voxel size. A level set named
+ * here, an iso outside the grid's values (no surface), a grid of another
+ * type: VP_ERR_INVALID_ARGUMENT or VP_ERR_NOT_LEVEL_SET, one line. */
+int vpv_levelset_read_fog(const char *path, const char *grid_name, double iso,
+                          vpv_levelset **out, char *err, size_t errlen);
+
 /* Makes sure values are distances to at least in_depth (world) inside; if
- * the grid's interior band is narrower, it is rebuilt (levelSetRebuild)
- * with a wide enough interior band. */
+ * the grid's interior band is narrower, it is widened inward by fast
+ * sweeping from the band it has (OpenVDB's dilateSdf), keeping the signs
+ * the grid has (a cavity stays outside). */
 int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth,
                                  char *err, size_t errlen);
 

@@ -30,6 +30,12 @@ struct vpv_levelset {
     // values and background are in its own units; every vpv_levelset_*
     // function takes and returns world units (w2i includes the scale).
     double scale = 1.0;
+    // The volume is measured by the smeared Heaviside of every voxel
+    // (vdb_levelset_ops.cpp) rather than OpenVDB's levelSetVolume, whose
+    // surface integral is off (by about 5 % for a box missing a face) where
+    // the winding-number route's film makes the values only close to a
+    // distance.
+    bool heaviside_volume = false;
     double ensured_depth = 0.0; // ensure_interior already satisfied to this depth
     mutable double band = -1.0; // interior band of grid (a walk of every voxel),
                                 // measured on first use; -1: not yet
@@ -110,6 +116,16 @@ void fill_meta(openvdb::MetaMap &map, const vp_meta *meta, size_t count, bool fo
 void refresh_levelset(vpv_levelset &ls);
 
 uint64_t next_generation();
+
+// OpenVDB 10's fast sweeping (fogToSdf, sdfToSdf, dilateSdf) takes a
+// neighbour whose value is 1000 or more, in world units, for one it has
+// not reached (FastSweeping.h, NN::operator bool): with voxels of a few
+// hundred units its sweeps stopped after a few voxels. Sweeps run on a
+// copy made by in_voxel_units (a unit voxel; the values, when they are
+// distances, divided by g's voxel size), and to_world_units turns the
+// result back (values times h, transform xf).
+openvdb::FloatGrid::Ptr in_voxel_units(const openvdb::FloatGrid &g, bool distances);
+void to_world_units(openvdb::FloatGrid &g, double h, const openvdb::math::Transform &xf);
 
 } // namespace vpv
 

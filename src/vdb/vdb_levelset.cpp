@@ -3,9 +3,14 @@
 #include "vdb/vdb_internal.hpp"
 
 #include <openvdb/io/GridDescriptor.h>
+#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tree/LeafManager.h>
 #include <openvdb/tree/ValueAccessor.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -79,8 +84,101 @@ Acc &accessor(const vpv_levelset *ls)
 
 } // namespace
 
+namespace {
+
+bool is_float_grid(const openvdb::GridBase &g)
+{
+    return g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>();
+}
+
+// "; a fog or density grid ('density') is a container with --iso V ..."
+// when the file has a float grid that is not a level set.
+std::string fog_note(const openvdb::GridPtrVec &grids)
+{
+    for (const auto &g : grids)
+        if (g && is_float_grid(*g) && !is_float_level_set(*g))
+            return "; a fog or density grid such as '" + g->getName() +
+                   "' is a container with --iso V (inside where its value is at least V)";
+    return std::string();
+}
+
+// The fog or density grid f as a level set: inside where f >= iso, at f's
+// voxel size, by OpenVDB's fast sweeping (fogToSdf) over f's active voxels;
+// outside values past 3 voxels are clamped to that (the background) and
+// made inactive, as a narrow band's are.
+int fog_to_levelset(const char *path, openvdb::FloatGrid::Ptr &f, double iso, char *err,
+                    size_t errlen)
+{
+    const openvdb::FloatTree &t = f->tree();
+    if (t.activeVoxelCount() == 0)
+        return fail(err, errlen, VP_ERR_BAD_CONTAINER, "%s: grid '%s' has no active voxels", path,
+                    f->getName().c_str());
+    const auto mm = openvdb::tools::minMax(t);
+    const double lo = std::min(double(mm.min()), double(t.background()));
+    const double hi = std::max(double(mm.max()), double(t.background()));
+    if (!(iso > lo && iso < hi))
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                    "%s: --iso %g is not inside the values of grid '%s' (%g to %g): no surface "
+                    "is there", path, iso, f->getName().c_str(), lo, hi);
+    // the sweep sees active voxels only, and a fog's outside is often
+    // inactive (sdfToFogVolume, Houdini's VDB from Polygons): a copy whose
+    // active region reaches two voxels past the fog's gives the surface an
+    // outside to be found in
+    // (in voxel units: see in_voxel_units)
+    openvdb::FloatGrid::Ptr work = in_voxel_units(*f, /*distances=*/false);
+    openvdb::tools::dilateActiveValues(work->tree(), 2, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                       openvdb::tools::PRESERVE_TILES);
+    openvdb::FloatGrid::Ptr sdf = openvdb::tools::fogToSdf(*work, float(iso), 1);
+    work.reset();
+    if (!sdf) return fail(err, errlen, VP_ERR_INTERNAL, "%s: fogToSdf failed", path);
+    to_world_units(*sdf, f->voxelSize()[0], f->transform());
+    const float bgw = float(3.0 * f->voxelSize()[0]);
+    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(sdf->tree());
+    leaves.foreach([bgw](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
+        for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
+            const float v = leaf.getValue(i);
+            if (!(v < bgw)) { // past the band outside, or never reached (+inf)
+                leaf.setValueOnly(i, bgw);
+                leaf.setValueOff(i);
+            } else if (!std::isfinite(v) || v < -1e30f) { // never reached, inside
+                leaf.setValueOnly(i, -bgw);
+            }
+        }
+    });
+    sdf->tree().root().setBackground(bgw, /*updateChildNodes=*/true);
+    openvdb::tools::signedFloodFill(sdf->tree(), true, 1, /*minLevel=*/1);
+    sdf->setGridClass(openvdb::GRID_LEVEL_SET);
+    sdf->setName(f->getName());
+    f = sdf;
+    return VP_OK;
+}
+
+// Reads a level set, or with iso a fog grid converted (see bridge.h).
+int read_levelset(const char *path, const char *grid_name, const double *iso, vpv_levelset **out,
+                  char *err, size_t errlen);
+
+} // namespace
+
 extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_levelset **out,
                                  char *err, size_t errlen)
+{
+    return read_levelset(path, grid_name, nullptr, out, err, errlen);
+}
+
+extern "C" int vpv_levelset_read_fog(const char *path, const char *grid_name, double iso,
+                                     vpv_levelset **out, char *err, size_t errlen)
+{
+    if (!std::isfinite(iso)) {
+        clear(err, errlen);
+        if (out) *out = nullptr;
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "--iso must be a finite number");
+    }
+    return read_levelset(path, grid_name, &iso, out, err, errlen);
+}
+
+namespace {
+int read_levelset(const char *path, const char *grid_name, const double *iso, vpv_levelset **out,
+                  char *err, size_t errlen)
 {
     clear(err, errlen);
     if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_read: out is NULL");
@@ -97,11 +195,20 @@ extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_le
         size_t pick = grids.size();
         if (!grid_name) {
             for (size_t i = 0; i < grids.size(); ++i)
-                if (grids[i] && is_float_level_set(*grids[i])) { pick = i; break; }
+                if (grids[i] && (iso ? is_float_grid(*grids[i]) && !is_float_level_set(*grids[i])
+                                     : is_float_level_set(*grids[i]))) {
+                    pick = i;
+                    break;
+                }
+            if (pick == grids.size() && iso)
+                return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
+                            "%s: --iso takes a fog or density grid (float, not a level set), and "
+                            "the file has none (grids: %s)", path, list_grids(grids).c_str());
             if (pick == grids.size())
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
-                            "%s: no float level set in the file (grids: %s)%s", path,
-                            list_grids(grids).c_str(), unknown_class_note(grids).c_str());
+                            "%s: no float level set in the file (grids: %s)%s%s", path,
+                            list_grids(grids).c_str(), unknown_class_note(grids).c_str(),
+                            fog_note(grids).c_str());
         } else {
             // "name" must be unique; "name[k]" picks the k-th of several
             // grids sharing a name (io::File's own convention)
@@ -134,14 +241,26 @@ extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_le
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "%s: no grid named '%s' (grids: %s)",
                             path, grid_name, list_grids(grids).c_str());
             const openvdb::GridBase &g = *grids[pick];
-            if (!is_float_level_set(g))
+            if (iso && is_float_level_set(g))
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                            "%s: grid '%s' is a level set; --iso is for fog or density grids "
+                            "(leave it out)", path, grid_name);
+            if (iso && !is_float_grid(g))
+                return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
+                            "%s: grid '%s' is not a float grid (it is [%s, %s]); --iso takes a "
+                            "fog or density grid", path, grid_name, class_name(g).c_str(),
+                            value_type_name(g).c_str());
+            if (!iso && !is_float_level_set(g))
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
                             "%s: grid '%s' is not a float level set (it is [%s, %s])%s", path,
                             grid_name, class_name(g).c_str(), value_type_name(g).c_str(),
                             (g.getGridClass() == openvdb::GRID_UNKNOWN &&
                              (g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>()))
-                                ? "; its class is unknown: mark it as a level set to use it"
-                                : "");
+                                ? "; its class is unknown: mark it as a level set to use it, or "
+                                  "give --iso V to take it as a fog or density grid"
+                                : is_float_grid(g) ? "; a fog or density grid is a container with "
+                                                     "--iso V (inside where its value is at least V)"
+                                                   : "");
         }
         // Grids sharing a name are addressed as "name[k]" by io::File.
         const std::string name = grids[pick]->getName();
@@ -155,6 +274,10 @@ extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_le
         if (!fg)
             return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' could not be read as a float grid",
                         path, name.c_str());
+        if (iso) {
+            int frc = fog_to_levelset(path, fg, *iso, err, errlen);
+            if (frc != VP_OK) return frc;
+        }
         fg->setGridClass(openvdb::GRID_LEVEL_SET);
         std::unique_ptr<vpv_levelset> ls(new vpv_levelset);
         ls->grid = fg;
@@ -163,6 +286,7 @@ extern "C" int vpv_levelset_read(const char *path, const char *grid_name, vpv_le
         return VP_OK;
     });
 }
+} // namespace
 
 namespace {
 

@@ -3,8 +3,11 @@
 #include "vdb/vdb_internal.hpp"
 
 #include <openvdb/tools/Count.h>
+#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/LevelSetMeasure.h>
 #include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tools/ValueTransformer.h>
 #include <openvdb/tree/LeafManager.h>
 
 #include <tbb/parallel_reduce.h>
@@ -119,6 +122,83 @@ double surface_voxels(const openvdb::FloatTree &t)
     return s;
 }
 
+// The inside's volume in voxels: every voxel of every leaf counts
+// clamp(0.5 - value / voxel, 0, 1) (the smeared Heaviside of a distance),
+// every tile below zero all its voxels.
+double heaviside_volume(const openvdb::FloatGrid &g)
+{
+    const openvdb::FloatTree &t = g.tree();
+    const double h = g.transform().voxelSize()[0];
+    openvdb::tree::LeafManager<const openvdb::FloatTree> lm(t);
+    double v = tbb::parallel_reduce(
+        lm.leafRange(), 0.0,
+        [h](const openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange &r, double s) {
+            for (auto leaf = r.begin(); leaf; ++leaf)
+                for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i)
+                    s += std::min(1.0, std::max(0.0, 0.5 - double(leaf->getValue(i)) / h));
+            return s;
+        },
+        [](double a, double b) { return a + b; });
+    auto tile = t.cbeginValueAll();
+    tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile)
+        if (*tile < 0.0f) v += double(tile.getVoxelCount());
+    return v;
+}
+
+// The signs of orig on rebuilt, a rebuild of it on the same transform:
+// levelSetRebuild meshes the zero crossing and voxelizes the mesh again,
+// whose flood fill takes every region the outside cannot reach for
+// inside, so a cavity holding positive values (a hollow ball) was filled.
+// Every voxel of the rebuilt leaves takes the sign orig has there (its
+// magnitude, the distance, is the rebuild's; where orig is 0 the rebuild's
+// sign stays), then every tile the sign of orig at its centre.
+void keep_signs(const openvdb::FloatGrid &orig, openvdb::FloatGrid &rebuilt)
+{
+    openvdb::FloatTree &t = rebuilt.tree();
+    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(t);
+    leaves.foreach([&](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
+        openvdb::tree::ValueAccessor<const openvdb::FloatTree> acc(orig.tree());
+        for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
+            const float o = acc.getValue(leaf.offsetToGlobalCoord(i)), v = leaf.getValue(i);
+            if (o != 0.0f && (o < 0.0f) != (v < 0.0f)) leaf.setValueOnly(i, -v);
+        }
+    });
+    // the tiles between the leaves as the leaves say, then each as orig
+    openvdb::tools::signedFloodFill(t, /*threaded=*/true, /*grainSize=*/1, /*minLevel=*/1);
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree> acc(orig.tree());
+    auto tile = t.beginValueAll();
+    tile.setMaxDepth(openvdb::FloatTree::ValueAllIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile) {
+        openvdb::CoordBBox b;
+        tile.getBoundingBox(b);
+        const openvdb::Coord c((b.min().x() + b.max().x()) / 2, (b.min().y() + b.max().y()) / 2,
+                               (b.min().z() + b.max().z()) / 2);
+        const float o = acc.getValue(c), v = *tile;
+        if (o != 0.0f && (o < 0.0f) != (v < 0.0f)) tile.setValue(-v);
+    }
+}
+
+// After a band was widened: what lies inside past it (inactive voxels,
+// tiles) holds minus the new band's depth, the deepest active value, as a
+// narrow band's inside does ("at least this deep"); it held the old band's.
+void deepen_inside(openvdb::FloatGrid &g)
+{
+    openvdb::FloatTree &t = g.tree();
+    if (t.activeVoxelCount() == 0) return;
+    const float deepest = openvdb::tools::minMax(t).min();
+    if (!(deepest < 0.0f)) return;
+    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(t);
+    leaves.foreach([deepest](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
+        for (auto it = leaf.beginValueOff(); it; ++it)
+            if (*it < 0.0f && *it > deepest) it.setValue(deepest);
+    });
+    auto tile = t.beginValueAll();
+    tile.setMaxDepth(openvdb::FloatTree::ValueAllIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile)
+        if (*tile < 0.0f && *tile > deepest) tile.setValue(deepest);
+}
+
 // interior_band of ls's grid, measured once per grid: the loader's
 // get_info, its estimate of a rebuild's cost and ensure_interior all ask.
 double band_of(const vpv_levelset &ls)
@@ -142,7 +222,29 @@ void band_widths(const vpv_levelset &ls, double in_depth, double &want, double &
     ex = std::max(3.0, double(ls.grid->background()) * ls.scale / ls.voxel);
 }
 
+// Every value of g (voxels and tiles, active or not) and its background times f.
+void scale_values(openvdb::FloatGrid &g, float f)
+{
+    openvdb::tools::foreach(g.tree().beginValueAll(),
+                            [f](const openvdb::FloatTree::ValueAllIter &it) { it.setValue(*it * f); });
+    g.tree().root().setBackground(g.tree().background() * f, /*updateChildNodes=*/false);
+}
+
 } // namespace
+
+openvdb::FloatGrid::Ptr vpv::in_voxel_units(const openvdb::FloatGrid &g, bool distances)
+{
+    openvdb::FloatGrid::Ptr c = g.deepCopy();
+    c->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+    if (distances) scale_values(*c, float(1.0 / g.voxelSize()[0]));
+    return c;
+}
+
+void vpv::to_world_units(openvdb::FloatGrid &g, double h, const openvdb::math::Transform &xf)
+{
+    scale_values(g, float(h));
+    g.setTransform(xf.copy());
+}
 
 extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, char *err,
                                             size_t errlen)
@@ -166,12 +268,36 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
                         name.c_str());
         double want, ex;
         band_widths(*ls, in_depth, want, ex);
-        if (!std::isfinite(want) || want > 1e6)
+        // (the sweep cannot reach 1000 voxels: see in_voxel_units)
+        if (!std::isfinite(want) || want > 990)
             return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
-                        "level set '%s': interior depth %g is %g voxels, too many", name.c_str(),
-                        in_depth, want);
-        openvdb::FloatGrid::Ptr ng =
-            openvdb::tools::levelSetRebuild(g, 0.0f, float(ex), float(want));
+                        "level set '%s': an interior band %g deep is %.0f voxels, more than the "
+                        "990 it can be widened to; use smaller particles or a coarser level set",
+                        name.c_str(), in_depth, want);
+        // widened inward by fast sweeping from the band it has (in voxel
+        // units: see in_voxel_units), on a copy whose tiles are inactive
+        // (the sweep makes every voxel of an active tile a voxel of its
+        // own: a corrupt or hand-made file's tile of 4096^3 voxels took
+        // all the memory there is). The signs stay as the file has them:
+        // levelSetRebuild, which meshes the zero crossing and voxelizes
+        // that again, lost a hollow ball's inner wall and filled its cavity.
+        const int more = int(std::ceil((in_depth - band_of(*ls)) / ls->voxel)) + 2;
+        openvdb::FloatGrid::Ptr work = in_voxel_units(g, /*distances=*/true);
+        {
+            auto tile = work->tree().beginValueOn();
+            tile.setMaxDepth(openvdb::FloatTree::ValueOnIter::LEAF_DEPTH - 1);
+            for (; tile; ++tile) tile.setActiveState(false);
+        }
+        openvdb::FloatGrid::Ptr ng = openvdb::tools::dilateSdf(
+            *work, more, openvdb::tools::NN_FACE, 1,
+            openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
+        work.reset();
+        if (!ng)
+            return fail(err, errlen, VP_ERR_INTERNAL, "level set '%s': the sweep that widens its band failed",
+                        name.c_str());
+        to_world_units(*ng, g.voxelSize()[0], g.transform());
+        keep_signs(g, *ng);
+        deepen_inside(*ng);
         ng->setName(name);
         ng->setGridClass(openvdb::GRID_LEVEL_SET);
         ls->grid = ng;
@@ -251,11 +377,15 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
         const openvdb::Vec3d vs = xf.voxelSize();
         const double s3 = ls->scale * ls->scale * ls->scale;
         info->volume = double(inside) * vs[0] * vs[1] * vs[2] * s3;
-        try {
-            info->volume = std::max(info->volume,
-                                    double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)) * s3);
-        } catch (...) {
-            // (non-cubic voxels and the like: the inside voxels' volume stands)
+        if (ls->heaviside_volume) {
+            info->volume = heaviside_volume(g) * vs[0] * vs[1] * vs[2] * s3;
+        } else {
+            try {
+                info->volume = std::max(info->volume,
+                                        double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)) * s3);
+            } catch (...) {
+                // (non-cubic voxels and the like: the inside voxels' volume stands)
+            }
         }
 
         info->leaked = leaks(t, bb);

@@ -204,7 +204,7 @@ expect_error "missing container" "nothere\.obj|no such|not found|cannot open|doe
 expect_error "empty obj" "empty\.obj" "" -- pack ../empty.obj --radius 1 -o out.vdb
 expect_error "random bytes obj" "random\.obj" "" -- pack ../random.obj --radius 1 -o out.vdb
 expect_error "NaN vertex" "nan|not finite|non-finite|invalid" "" -- pack ../nan.obj --radius 0.1 -o out.vdb
-expect_error "open mesh" "boundary edge" "" -- pack ../open.obj --radius 0.1 -o out.vdb
+expect_error "open mesh, --inside closed" "boundary edge.*--inside auto or winding" "" -- pack ../open.obj --inside closed --radius 0.1 -o out.vdb
 if [ -f "$VP_SHARED/gaffer_smoke_fog.vdb" ]; then
     expect_error "fog volume" "density" "" -- pack "$VP_SHARED/gaffer_smoke_fog.vdb" --radius 0.1 -o out.vdb
 else
@@ -258,10 +258,10 @@ expect_error "info on random bytes" "random\.obj" "" -- info ../random.obj
 
 
 # --- meshes, further
-expect_error "truncated obj" "truncated\.obj.*(not closed|boundary)" "" -- pack ../truncated.obj --radius 0.1 -o out.vdb
+expect_error "truncated obj, --inside closed" "truncated\.obj.*(not closed|boundary)" "" -- pack ../truncated.obj --inside closed --radius 0.1 -o out.vdb
 expect_error "huge coordinates" "huge\.obj.*(memory|voxel)" 5 -- pack ../huge.obj --radius 0.1 -o out.vdb
 expect_error "coordinates beyond float" "overflow\.obj.*(non-finite|inf)" "" -- pack ../overflow.obj --radius 0.1 -o out.vdb
-expect_error "non-manifold fin" "nonmanifold\.obj.*1 non-manifold edge" "" -- pack ../nonmanifold.obj --radius 0.1 -o out.vdb
+expect_error "non-manifold fin, --inside closed" "nonmanifold\.obj.*1 non-manifold edge" "" -- pack ../nonmanifold.obj --inside closed --radius 0.1 -o out.vdb
 expect_error "flat closed mesh" "flat\.obj.*no volume" "" -- pack ../flat.obj --radius 0.1 -o out.vdb
 expect_error "zero-area triangles only" "collinear\.obj.*(no volume|no triangles|degenerate)" "" -- pack ../collinear.obj --radius 0.1 -o out.vdb
 expect_error "face index out of range" "bad_index\.obj" "" -- pack ../bad_index.obj --radius 0.1 -o out.vdb
@@ -269,7 +269,7 @@ expect_error "text STL without facets" "text_as_stl\.stl" "" -- pack ../text_as_
 expect_error "truncated binary STL" "truncated\.stl" "" -- pack ../truncated.stl --radius 0.1 -o out.vdb
 expect_error "truncated binary PLY" "truncated\.ply" "" -- pack ../truncated.ply --radius 0.1 -o out.vdb
 expect_error "container is a directory" "adir\.obj.*directory" "" -- pack ../adir.obj --radius 0.1 -o out.vdb
-expect_error "open mesh, count" "open\.obj.*boundary edge" "" -- pack ../open.obj --count 100 -o out.vdb
+expect_error "open mesh, count, --inside closed" "open\.obj.*boundary edge" "" -- pack ../open.obj --inside closed --count 100 -o out.vdb
 REF=$("$VDBPACK" pack cube.obj --radius 0.1 -o ref.vdb --json | grep -o '"count": *[0-9]*' | grep -o '[0-9]*$')
 rm -f ref.vdb
 expect_same_count "inside-out mesh" "$REF" -- pack inside_out.obj --radius 0.1
@@ -551,7 +551,7 @@ expect_error "pack: --radius twice" "--radius is given twice \('0\.1' and '0\.2'
 expect_error "pack: --seed twice" "--seed is given twice" "" -- pack sphere:1 --method rsa --radius 0.1 --count 5 --seed 1 --seed 2 -o out.vdb
 expect_error "check: --container twice" "check: --container is given twice" "" -- check ../points.vdb --container sphere:1 --container sphere:2
 expect_error "render: --color then --colour" "render: --colour is given twice \('id' and 'pass'\)" "" -- render ../points.vdb -o out.exr --color id --colour pass
-expect_error "check: --voxel-size with an analytic container" "check: --voxel-size and --grid need a mesh or \.vdb container" "" -- check ../points.vdb --container sphere:1 --voxel-size 0.01
+expect_error "check: --voxel-size with an analytic container" "check: --voxel-size, --grid, --inside and --iso need a mesh or \.vdb container" "" -- check ../points.vdb --container sphere:1 --voxel-size 0.01
 expect_error "pack: empty container name" "pack: no container given" "" -- pack '' --radius 0.1 -o out.vdb
 expect_error "convert: output is the input" "convert: the output is the input \('\.\./points\.vdb'\)" "" -- convert ../points.vdb ../points.vdb
 expect_error "convert: --format twice" "convert: --format is given twice" "" -- convert ../points.vdb out.ply --format ply --format csv
@@ -577,7 +577,7 @@ for args in "--help" "pack --help" "info --help" "render --help" "convert --help
     esac
     case $args in "pack --help")
         for o in --radius --count --shape --lattice --fit --offsets --rotate --precision \
-            --save-container --shape-out --threads --max-memory --voxel-size --allow-open --grid --json; do
+            --save-container --shape-out --threads --max-memory --voxel-size --inside --iso --grid --json; do
             grep -q -- "$o" out.txt || fail "pack --help does not mention $o"
         done ;;
     esac
