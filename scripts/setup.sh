@@ -10,6 +10,13 @@ PKGS=(cmake g++ ninja-build pkg-config
       libopenvdb-tools libopenvdb-ax-tools python3 python3-numpy python3-openvdb python3-pytest)
 source scripts/apt_install.sh
 apt_install setup "${PKGS[@]}"
+# VP_BLENDER=1: also Debian's Blender 3.4.1 for the add-on's tests
+# (tests/blender, docs/blender.md; about 1 minute, 190 MB installed). Mesa's
+# EGL and DRI drivers are named because --no-install-recommends would leave
+# them out, and Workbench renders need them even headless.
+if [ "${VP_BLENDER:-0}" = 1 ]; then
+  apt_install setup blender libegl-mesa0 libgl1-mesa-dri
+fi
 
 BUILD_DIR=${BUILD_DIR:-build}
 # Two compile jobs at most: one OpenVDB translation unit takes ~1.5 GB.

@@ -1,0 +1,238 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The packing job, apart from Blender's data: finding the vdbpack module,
+sizing the in-memory container for the job, and running loading, packing
+and checking in a background thread with progress and cancellation.
+Nothing here touches bpy, so the job may run outside Blender's main
+thread; the operators copy the mesh out before and build objects after."""
+import ctypes
+import os
+import sys
+import tempfile
+import threading
+import time
+
+import numpy as np
+
+_MODULE = None
+
+
+class SetupError(Exception):
+    """The vdbpack module or its library cannot be loaded."""
+
+
+def load_vdbpack(module_dir="", library=""):
+    """The vdbpack Python module: as Python finds it (PYTHONPATH), else from
+    module_dir (a folder holding vdbpack/, as build/python or
+    PREFIX/lib/python3/dist-packages), with library as $VDBPACK_LIBRARY
+    when given. SetupError with one line saying what to set."""
+    global _MODULE
+    if _MODULE is not None:
+        return _MODULE
+    if library:
+        os.environ["VDBPACK_LIBRARY"] = library
+    if module_dir and module_dir not in sys.path:
+        sys.path.insert(0, module_dir)
+    try:
+        import vdbpack
+    except ImportError as e:
+        if module_dir and sys.path[0] == module_dir:
+            sys.path.pop(0)
+        raise SetupError("the vdbpack Python module cannot be loaded (%s): set its folder (e.g. "
+                         "build/python) in the add-on's preferences, or start Blender with "
+                         "PYTHONPATH naming it" % str(e).splitlines()[0]) from None
+    _MODULE = vdbpack
+    return vdbpack
+
+
+# -- sizing the container ----------------------------------------------------
+
+
+def container_sizing(vp, method, kw):
+    """The level-set parameters (particle_radius, particle_count,
+    space_per_particle, narrow_band) that vdbpack.pack() would give a mesh
+    file for this job, as keywords for Container.from_mesh: the library's
+    own vp_container_params_for_<method> over the job's parameters, so that
+    a mesh handed over in memory gives the particles its file would.
+
+    Uses vdbpack.container_params(method, **kw) when the module has it;
+    until then the module's private structs (tests/blender compares the
+    result with vdbpack.pack on the same mesh as a file)."""
+    public = getattr(vp, "container_params", None)
+    if public is not None:
+        return public(method, **kw)
+    from vdbpack import _lib, _pack
+    lib = _lib.lib
+    shape = kw.get("shape", "sphere")
+    shape_id = _lib.SHAPES.index(shape) if isinstance(shape, str) and shape in _lib.SHAPES \
+        else _lib.VP_SHAPE_MESH
+    keep = []
+    if method == "lattice":
+        params = _lib.vp_lattice_params()
+        lib.vp_lattice_params_init(ctypes.byref(params))
+        lat = _lib.LATTICES[kw["lattice"]] if "lattice" in kw else _lib.VP_LATTICE_DEFAULT
+        if shape_id == 0 and lat == _lib.VP_LATTICE_DENSEST:
+            lat = _lib.VP_LATTICE_FCC
+        params.shape, params.lattice = shape_id, lat
+        if "radius" in kw:
+            params.radius = float(kw["radius"])
+        else:
+            params.count = int(kw["count"])
+    elif method == "rsa":
+        passes = kw["passes"]
+        arr = (_lib.vp_rsa_pass * len(passes))()
+        for k, p in enumerate(passes):
+            arr[k] = _pack._rsa_pass(p, k, 0)
+        keep.append(arr)
+        params = _lib.vp_rsa_params()
+        lib.vp_rsa_params_init(ctypes.byref(params))
+        params.shape, params.passes, params.npasses = shape_id, arr, len(passes)
+    else:
+        # relax, and any later sphere packer of the same kind (count, a
+        # radius distribution, target_fraction) whose structs _lib mirrors
+        cls = getattr(_lib, "vp_%s_params" % method, None)
+        init = getattr(lib, "vp_%s_params_init" % method, None)
+        if cls is None or init is None:
+            raise ValueError("this add-on cannot size a mesh container for method '%s' with "
+                             "this vdbpack module (it needs vdbpack.container_params)" % method)
+        params = cls()
+        init(ctypes.byref(params))
+        params.radius = _pack._size_dist(kw["radius"], "radius")
+        params.count = int(kw.get("count", 0))
+        if "target_fraction" in kw:
+            params.target_fraction = float(kw["target_fraction"])
+    cp = _lib.vp_container_params()
+    lib.vp_container_params_init(ctypes.byref(cp))
+    getattr(lib, "vp_container_params_for_" + method)(ctypes.byref(cp), ctypes.byref(params))
+    del keep
+    out = {"narrow_band": bool(cp.narrow_band)}
+    if cp.particle_radius > 0:
+        out["particle_radius"] = cp.particle_radius
+    if cp.particle_count:
+        out["particle_count"] = cp.particle_count
+    if cp.space_per_particle > 0:
+        out["space_per_particle"] = cp.space_per_particle
+    return out
+
+
+# -- reading the unit shape back ---------------------------------------------
+
+
+def read_obj(path):
+    """Vertices (N, 3) float64 and faces (lists of indices) of a simple OBJ
+    as vp_shape_write_obj and vp_mesh_shape_write_obj write them."""
+    verts, faces = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                verts.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("f "):
+                faces.append([int(tok.split("/")[0]) - 1 for tok in line.split()[1:]])
+    return np.array(verts, np.float64).reshape(-1, 3), faces
+
+
+def unit_shape(vp, packing):
+    """The packing's unit particle (circumradius 1, centroid at the origin:
+    what pscale and orient place) as (vertices, faces), through the
+    library's own OBJ writer; None for spheres."""
+    if packing.shape == "sphere":
+        return None
+    with tempfile.TemporaryDirectory(prefix="vdbpack-shape-") as d:
+        path = os.path.join(d, "shape.obj")
+        packing.write_shape(path)
+        return read_obj(path)
+
+
+# -- the job -----------------------------------------------------------------
+
+
+class Job:
+    """Loads the container from arrays, packs, checks and gets the unit
+    shape, in a thread (start) or in the caller's (run). Progress is read
+    from .fraction and .stage; cancel() makes the library stop at its next
+    progress report (CancelledError, nothing kept). Afterwards .packing,
+    .container_info, .check, .shape_mesh, .seconds, or .error (a one-line
+    message) and .cancelled."""
+
+    def __init__(self, vp, vertices, triangles, name, method, options, shape="sphere",
+                 shape_mesh=None, voxel_size=0.0, check=True, cancel_at=None, cancel_stage=""):
+        self.vp = vp
+        self.vertices = vertices
+        self.triangles = triangles
+        self.name = name
+        self.method = method
+        self.options = dict(options)
+        self.shape = shape
+        self.shape_mesh = shape_mesh   # (vertices, triangles, name) of a mesh particle
+        self.voxel_size = voxel_size
+        self.do_check = check
+        self.cancel_at = cancel_at     # cancel once progress reaches this (tests, scripts)
+        self.cancel_stage = cancel_stage  # ... in this stage ("rsa", "voxelizing"; "": any)
+        self.fraction = 0.0
+        self.stage = "starting"
+        self.done = False
+        self.cancelled = False
+        self.error = None
+        self.packing = None
+        self.container_info = None
+        self.check = None
+        self.unit_shape = None
+        self.seconds = 0.0
+        self._stop = False
+        self._thread = None
+
+    def cancel(self):
+        self._stop = True
+
+    def _progress(self, fraction, stage):
+        self.fraction, self.stage = float(fraction), stage
+        if self.cancel_at is not None and fraction >= self.cancel_at and \
+                self.cancel_stage in ("", stage):
+            self._stop = True
+        return not self._stop
+
+    def start(self):
+        self._thread = threading.Thread(target=self.run, name="vdbpack-blender", daemon=True)
+        self._thread.start()
+
+    def join(self, timeout=None):
+        if self._thread is not None:
+            self._thread.join(timeout)
+
+    def run(self):
+        vp = self.vp
+        t0 = time.perf_counter()
+        try:
+            threads = self.options.get("threads")
+            opts = dict(self.options)
+            if self.shape_mesh is not None:
+                v, t, n = self.shape_mesh
+                self.stage = "shape"
+                opts["shape"] = vp.MeshShape.from_mesh(v, t, name=n)
+            else:
+                opts["shape"] = self.shape
+            sizing = container_sizing(vp, self.method, opts)
+            load = dict(sizing, name=self.name, threads=threads, progress=self._progress)
+            if self.voxel_size > 0:
+                load["voxel_size"] = self.voxel_size
+            self.stage = "container"
+            container = vp.Container.from_mesh(self.vertices, self.triangles, **load)
+            self.container_info = container.info
+            packing = vp.pack(container, self.method, progress=self._progress, **opts)
+            if self.do_check:
+                self.stage = "check"
+                self.check = packing.check(container, threads=threads, progress=self._progress)
+            self.unit_shape = unit_shape(vp, packing)
+            self.packing = packing
+        except vp.CancelledError:
+            self.cancelled = True
+            self.error = "cancelled"
+        except (vp.Error, ValueError, TypeError, MemoryError) as e:
+            self.error = str(e) or type(e).__name__
+        except Exception as e:  # a bug of the add-on: one line here, the traceback in the console
+            import traceback
+            traceback.print_exc()
+            self.error = "internal error (%s: %s); the console has the details" % (
+                type(e).__name__, e)
+        finally:
+            self.seconds = time.perf_counter() - t0
+            self.done = True
