@@ -17,6 +17,9 @@
 set -euo pipefail
 : "${VP_SRC:?}" "${VP_BUILD:?}" "${VP_CC:?}" "${VP_CXX:?}"
 if [ "${VP_SHARED_LIB:-1}" != 1 ]; then echo "skip: static build"; exit 77; fi
+# a sanitized library links only into sanitized programs: the consumers
+# built here are plain ones
+if [ "${VP_SANITIZED:-0}" = 1 ]; then echo "skip: sanitizer build"; exit 77; fi
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail=0
 die() { echo "FAIL: $*"; exit 1; }

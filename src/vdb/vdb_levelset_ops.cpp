@@ -172,8 +172,11 @@ void keep_signs(const openvdb::FloatGrid &orig, openvdb::FloatGrid &rebuilt)
     for (; tile; ++tile) {
         openvdb::CoordBBox b;
         tile.getBoundingBox(b);
-        const openvdb::Coord c((b.min().x() + b.max().x()) / 2, (b.min().y() + b.max().y()) / 2,
-                               (b.min().z() + b.max().z()) / 2);
+        // (the half extent added to min: min + max overflows an int for the
+        // tiles of a hand-made file far from the origin)
+        const openvdb::Coord c(b.min().x() + (b.max().x() - b.min().x()) / 2,
+                               b.min().y() + (b.max().y() - b.min().y()) / 2,
+                               b.min().z() + (b.max().z() - b.min().z()) / 2);
         const float o = acc.getValue(c), v = *tile;
         if (o != 0.0f && (o < 0.0f) != (v < 0.0f)) tile.setValue(-v);
     }
