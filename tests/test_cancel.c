@@ -96,6 +96,14 @@ static vp_result job_relax(vp_context *ctx, void *arg, void **out) {
     return vp_pack_relax(ctx, g_sphere, &rp, (vp_particles **)out, NULL);
 }
 
+static vp_result job_jam(vp_context *ctx, void *arg, void **out) {
+    (void)arg;
+    vp_jam_params jp;
+    vp_jam_params_init(&jp);
+    jp.count = 400;
+    return vp_pack_jam(ctx, g_sphere, &jp, (vp_particles **)out, NULL);
+}
+
 static vp_particles *g_packed;
 static vp_check_report g_report;
 
@@ -132,6 +140,7 @@ int main(void) {
     RUN_TEST_ARGS(cancel_job("lattice", job_lattice, free_particles, NULL));
     RUN_TEST_ARGS(cancel_job("rsa maximal", job_rsa, free_particles, NULL));
     RUN_TEST_ARGS(cancel_job("relax", job_relax, free_particles, NULL));
+    RUN_TEST_ARGS(cancel_job("jam", job_jam, free_particles, NULL));
     RUN_TEST_ARGS(cancel_job("check", job_check, free_nothing, NULL));
     RUN_TEST_ARGS(cancel_job("mesh load", job_load_mesh, free_container,
                              (void *)VP_SAMPLES "/torus.obj"));

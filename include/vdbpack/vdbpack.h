@@ -516,6 +516,7 @@ VP_API vp_result vp_describe_file(vp_context *ctx, const char *path, int json, c
 #include "vdbpack/size_dist.h"
 #include "vdbpack/rsa.h"
 #include "vdbpack/relax.h"
+#include "vdbpack/jam.h"
 #include "vdbpack/check.h"
 #include "vdbpack/render.h"
 #include "vdbpack/export.h"

@@ -103,21 +103,23 @@ static int lib_error(vp_context *ctx) {
 static int check_method_options(pack_opts *o, int have_radius, int have_count) {
     const char *m = o->method;
     int lattice = !strcmp(m, "lattice"), rsa = !strcmp(m, "rsa"), relax = !strcmp(m, "relax");
+    int jam = !strcmp(m, "jam");
     if (!lattice && (o->lattice != VP_LATTICE_DEFAULT || o->offsets || o->rotate || o->rotations))
         return vp_cli_die(2, "pack: --lattice, --offsets, --rotate and --rotations go with "
                              "--method lattice");
     if (!rsa && (o->npasses || o->retries || o->grow))
         return vp_cli_die(2, "pack: --pass, --retries and --grow go with --method rsa");
-    if (!relax && (o->target_fraction > 0 || o->tolerance > 0))
-        return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax");
+    if (!relax && !jam && (o->target_fraction > 0 || o->tolerance > 0))
+        return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax "
+                             "and jam");
     if (!rsa && o->count_max)
         return vp_cli_die(2, "pack: --count max goes with --method rsa");
     if (o->shape == VP_SHAPE_MESH && !rsa)
         return vp_cli_die(2, "pack: a mesh --shape (%s) packs with --method rsa in this version",
                           o->shape_file);
-    if (relax && o->shape != VP_SHAPE_SPHERE)
-        return vp_cli_die(2, "pack: --method relax packs spheres in this version (--shape %s "
-                             "needs --method lattice or rsa)", vp_shape_name(o->shape));
+    if ((relax || jam) && o->shape != VP_SHAPE_SPHERE)
+        return vp_cli_die(2, "pack: --method %s packs spheres in this version (--shape %s "
+                             "needs --method lattice or rsa)", m, vp_shape_name(o->shape));
     if ((o->orient >= 0 || o->overlap >= 0) && !(rsa && o->shape != VP_SHAPE_SPHERE))
         return vp_cli_die(2, "pack: --orient and --overlap go with --method rsa and a --shape "
                              "other than sphere");
@@ -197,6 +199,22 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         }
         return 0;
     }
+    if (jam) {
+        /* the radii's shape (1 when absent: equal spheres); their scale is
+         * the jamming point's. N from --count, or from --radius and the
+         * target fraction */
+        if (!have_count && !have_radius)
+            return vp_cli_die(2, "pack: --method jam needs --count N, or --radius SIZE (with "
+                                 "--target-fraction F, default 0.64, for the number)");
+        if (have_count && o->target_fraction > 0)
+            return vp_cli_die(2, "pack: --method jam takes --count N or --target-fraction F, "
+                                 "not both");
+        if (!have_radius) {
+            vp_size_dist_constant(&o->sizes, 1.0);
+            return 0;
+        }
+        return vp_cli_parse_sizes("--radius", o->radius_text, &o->sizes);
+    }
     /* relax */
     if (!have_radius || !have_count)
         return vp_cli_die(2, "pack: --method relax needs --radius R (or a distribution) and "
@@ -238,8 +256,9 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             o->format = v;
         } else if (!strcmp(a, "--method")) {
             VALUE();
-            if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0)
-                return vp_cli_die(2, "pack: unknown --method '%s' (lattice, rsa, relax)", v);
+            if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0 &&
+                strcmp(v, "jam") != 0)
+                return vp_cli_die(2, "pack: unknown --method '%s' (lattice, rsa, relax, jam)", v);
             o->method = v;
         } else if (!strcmp(a, "--shape")) {
             VALUE();
@@ -460,6 +479,7 @@ typedef struct run_result {
     vp_lattice_report lat;
     vp_rsa_report rsa;
     vp_relax_report relax;
+    vp_jam_report jam;
     double pack_seconds;
     double max_radius;
 } run_result;
@@ -492,7 +512,22 @@ static double smallest_radius(const pack_opts *o, const vp_container_info *ci) {
         for (int i = 0; i < o->npasses; i++) m = fmin(m, vp_size_dist_min(&o->passes[i].radius));
         return isfinite(m) ? m : 0.0;
     }
+    if (!strcmp(o->method, "jam")) return 0.0; /* the jamming point's */
     return o->target_fraction > 0 ? 0.0 : vp_size_dist_min(&o->sizes);
+}
+
+/* jam with --count N and --radius: N spheres of these radii must fit at
+ * all (the jamming point then scales them; without --radius any N does). */
+static int jam_count_check(const pack_opts *o, const vp_container_info *ci) {
+    if (strcmp(o->method, "jam") != 0 || !o->count || !o->radius_text) return 0;
+    double v = (double)o->count * 4.0 / 3.0 * M_PI * vp_size_dist_mean_cube(&o->sizes);
+    int equal = vp_size_dist_min(&o->sizes) == vp_size_dist_max(&o->sizes);
+    double most = equal ? 0.7405 : 1.0;
+    if (v <= most * ci->volume) return 0;
+    return vp_cli_die(1, "pack: %llu spheres of radius %s fill %.3g times the container's volume, "
+                         "more than %s; use fewer or smaller spheres (or leave out --radius: jam "
+                         "then finds the radius)", (unsigned long long)o->count, o->radius_text,
+                      v / ci->volume, equal ? "equal spheres can fill (0.7405)" : "it has");
 }
 
 /* A radius that a .vdb cannot hold (positions to within VP_POSITION_ERROR_LIMIT
@@ -546,6 +581,16 @@ static void relax_params(const pack_opts *o, vp_relax_params *xp) {
     xp->seed = o->seed;
 }
 
+static void jam_params(const pack_opts *o, vp_jam_params *jp) {
+    vp_jam_params_init(jp);
+    jp->fit = o->fit;
+    jp->radius = o->sizes;
+    jp->count = (size_t)o->count;
+    if (o->target_fraction > 0) jp->target_fraction = o->target_fraction;
+    if (o->tolerance > 0) jp->tolerance = o->tolerance;
+    jp->seed = o->seed;
+}
+
 /* What loading a mesh or .vdb container needs to know of the job. */
 static void container_params(const pack_opts *o, vp_container_params *cp) {
     vp_container_params_init(cp);
@@ -562,6 +607,10 @@ static void container_params(const pack_opts *o, vp_container_params *cp) {
         vp_rsa_params rp;
         rsa_params(o, &rp);
         vp_container_params_for_rsa(cp, &rp);
+    } else if (!strcmp(o->method, "jam")) {
+        vp_jam_params jp;
+        jam_params(o, &jp);
+        vp_container_params_for_jam(cp, &jp);
     } else {
         vp_relax_params xp;
         relax_params(o, &xp);
@@ -584,6 +633,11 @@ static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o
         rsa_params(o, &rp);
         r = vp_pack_rsa(ctx, c, &rp, p, &rr->rsa);
         rr->pack_seconds = rr->rsa.seconds;
+    } else if (!strcmp(o->method, "jam")) {
+        vp_jam_params jp;
+        jam_params(o, &jp);
+        r = vp_pack_jam(ctx, c, &jp, p, &rr->jam);
+        rr->pack_seconds = rr->jam.seconds;
     } else {
         vp_relax_params xp;
         relax_params(o, &xp);
@@ -694,6 +748,13 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                    pr->grow_mean, pr->seconds);
         }
         printf("]");
+    } else if (!strcmp(o->method, "jam")) {
+        const vp_jam_report *x = &rr->jam;
+        printf(",\"radius_scale\":%.17g,\"max_overlap\":%.17g,\"mean_contacts\":%.17g,"
+               "\"rattler_fraction\":%.17g,\"core_fraction\":%.17g,\"core_count\":%zu,"
+               "\"core_volume\":%.17g,\"minimizations\":%d,\"iterations\":%ld",
+               x->radius_scale, x->max_overlap, x->mean_contacts, x->rattler_fraction,
+               x->core_fraction, x->core_count, x->core_volume, x->minimizations, x->iterations);
     } else {
         const vp_relax_report *x = &rr->relax;
         printf(",\"sweeps\":%d,\"radius_scale\":%.17g,\"initial_fraction\":%.17g,"
@@ -725,7 +786,9 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                : o->overlap == VP_OVERLAP_BBOX ? " (fixed orientation, bounding-box overlap)"
                : o->orient == VP_ORIENT_FIXED  ? " (fixed orientation, exact overlap)"
                                                : " (random orientations, exact overlap)",
-               !strcmp(o->method, "rsa") ? "random sequential addition" : "relaxation",
+               !strcmp(o->method, "rsa")   ? "random sequential addition"
+               : !strcmp(o->method, "jam") ? "jamming (random close packing)"
+                                           : "relaxation",
                o->container);
     if (ci->kind == VP_CONTAINER_MESH)
         vp_cli_print_mesh_container(stdout, ci);
@@ -780,6 +843,18 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                fraction > 1.0 ? " (over 1: with --fit center the wall does not hold the "
                                 "particles, nor their growth)"
                               : "");
+    } else if (!strcmp(o->method, "jam")) {
+        const vp_jam_report *x = &rr->jam;
+        printf("  jamming: %d minimisations, %ld FIRE steps; radii scaled by %.6g; largest "
+               "overlap %.3g of r_i + r_j\n", x->minimizations, x->iterations, x->radius_scale,
+               x->max_overlap);
+        printf("  contacts: Z = %.3f over non-rattlers, rattlers %.1f %%\n", x->mean_contacts,
+               100.0 * x->rattler_fraction);
+        if (x->core_count)
+            printf("  packing fraction %.4f (core, 5 diameters from the wall: %.4f over %zu "
+                   "spheres)\n", fraction, x->core_fraction, x->core_count);
+        else
+            printf("  packing fraction %.4f (no core 5 diameters from the wall)\n", fraction);
     } else {
         const vp_relax_report *x = &rr->relax;
         printf("  relaxation: %d sweeps, radii scaled by %.4f, largest overlap %.3g of r_i + r_j\n",
@@ -889,6 +964,7 @@ int vp_cli_pack(int argc, char **argv) {
         goto done;
     }
     if ((status = vdb_radius_check(&o, &ci, smallest_radius(&o, &ci))) != 0) goto done;
+    if ((status = jam_count_check(&o, &ci)) != 0) goto done;
     status = 1;
 
     run_result rr;
@@ -955,6 +1031,15 @@ int vp_cli_pack(int argc, char **argv) {
             meta[nmeta++] = (vp_meta){"overlap", VP_META_STRING,
                                       o.overlap == VP_OVERLAP_BBOX ? "bbox" : "exact", 0, 0};
         }
+    } else if (!strcmp(o.method, "jam")) {
+        vp_size_dist_format(&o.sizes, method_params, sizeof method_params);
+        meta[nmeta++] = (vp_meta){"radius", VP_META_STRING, method_params, 0, 0};
+        meta[nmeta++] = (vp_meta){"radius_scale", VP_META_DOUBLE, NULL, 0, rr.jam.radius_scale};
+        meta[nmeta++] = (vp_meta){"max_overlap", VP_META_DOUBLE, NULL, 0, rr.jam.max_overlap};
+        meta[nmeta++] = (vp_meta){"mean_contacts", VP_META_DOUBLE, NULL, 0, rr.jam.mean_contacts};
+        meta[nmeta++] = (vp_meta){"rattler_fraction", VP_META_DOUBLE, NULL, 0,
+                                  rr.jam.rattler_fraction};
+        meta[nmeta++] = (vp_meta){"core_fraction", VP_META_DOUBLE, NULL, 0, rr.jam.core_fraction};
     } else {
         vp_size_dist_format(&o.sizes, method_params, sizeof method_params);
         meta[nmeta++] = (vp_meta){"radius", VP_META_STRING, method_params, 0, 0};

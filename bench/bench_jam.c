@@ -1,0 +1,96 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Jammed packing figures of issue 28, each case in its own process.
+ * Usage: build/bench/bench_jam [CASE...]   (default: all; names below)
+ * Memory: (peak RSS - RSS before packing) / particles. */
+#include "vdbpack/vdbpack.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "bench_random_common.h"
+
+typedef struct jam_case {
+    const char *name;
+    int kind;        /* 0 unit box, 1 sphere of radius R r (R = param), 2 mesh file */
+    double param;
+    const char *dist;/* --radius text */
+    size_t count;
+    const char *file;
+    int threads;
+} jam_case;
+
+static void run_case(void *arg) {
+    jam_case *k = arg;
+    vp_context *ctx = NULL;
+    vp_context_create(&ctx);
+    if (k->threads) vp_context_set_threads(ctx, k->threads);
+    vp_jam_params jp;
+    vp_jam_params_init(&jp);
+    jp.count = k->count;
+    jp.seed = 1;
+    if (vp_size_dist_parse(ctx, k->dist, &jp.radius) != VP_OK) {
+        printf("%s: bad distribution %s\n", k->name, k->dist);
+        return;
+    }
+    vp_container *c = NULL;
+    double zero[3] = {0, 0, 0}, lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
+    vp_result res;
+    if (k->kind == 1) {
+        /* the radius that fills 0.64 of a sphere of radius R r with count spheres */
+        res = vp_container_create_sphere(ctx, zero, 1.0, &c);
+    } else if (k->kind == 2) {
+        vp_container_params cp;
+        vp_container_params_init(&cp);
+        vp_container_params_for_jam(&cp, &jp);
+        res = vp_container_load(ctx, k->file, &cp, &c);
+    } else {
+        res = vp_container_create_box(ctx, lo, hi, &c);
+    }
+    if (res != VP_OK) {
+        printf("%s: container: %s\n", k->name, vp_context_message(ctx));
+        return;
+    }
+    vp_container_info ci;
+    vp_container_get_info(c, &ci);
+    long before = bench_status_kb("VmRSS:");
+    vp_particles *p = NULL;
+    vp_jam_report rep;
+    double t0 = bench_now();
+    res = vp_pack_jam(ctx, c, &jp, &p, &rep);
+    double t = bench_now() - t0;
+    if (res != VP_OK) {
+        printf("%s: error: %s\n", k->name, vp_context_message(ctx));
+        return;
+    }
+    long peak = bench_status_kb("VmHWM:");
+    printf("%-36s %8zu spheres  fraction %.4f  core %.4f (%zu)  Z %.3f  rattlers %.3f  %7.2f s  "
+           "%.0f B/particle  [%d minimisations, %ld steps, %d lists]\n",
+           k->name, rep.count, rep.fraction, rep.core_fraction, rep.core_count, rep.mean_contacts,
+           rep.rattler_fraction, t, (peak - before) * 1024.0 / rep.count, rep.minimizations,
+           rep.iterations, rep.list_builds);
+    fflush(stdout);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+    vp_context_destroy(ctx);
+}
+
+int main(int argc, char **argv) {
+    static jam_case cases[] = {
+        {"box10k", 0, 0, "1", 10000, NULL, 0},
+        {"box100k", 0, 0, "1", 100000, NULL, 0},
+        {"box1M", 0, 0, "1", 1000000, NULL, 0},
+        {"sphere20r", 1, 20, "1", 5120, NULL, 0},   /* 0.64 * 20^3 */
+        {"sphere40r", 1, 40, "1", 40960, NULL, 0},  /* 0.64 * 40^3 */
+        {"lognormal100k", 0, 0, "lognormal:1:0.2", 100000, NULL, 0},
+        {"binary100k", 0, 0, "list:1:1:1:1:1:1:1:1:2", 100000, NULL, 0},
+        {"peanut200k", 2, 0, "1", 200000, VP_SOURCE_DIR "/vdb_samples/peanut.obj", 0},
+        {"skull200k", 2, 0, "1", 200000, VP_SHARED_CONTAINERS "/skull.obj", 0},
+    };
+    size_t nc = sizeof cases / sizeof *cases;
+    for (size_t i = 0; i < nc; i++) {
+        int want = argc < 2;
+        for (int a = 1; a < argc; a++) want |= !strcmp(argv[a], cases[i].name);
+        if (want) bench_fork(run_case, &cases[i]);
+    }
+    return 0;
+}

@@ -1,0 +1,981 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The jammed packer; see jam.h and docs/jam.md.
+ *
+ * Soft spheres with a harmonic overlap energy
+ *     U = sum over pairs 1/2 max(0, r_i + r_j - |x_i - x_j|)^2
+ *       + sum over spheres 1/2 max(0, r_i + d(x_i))^2    (fit inside;
+ *                                                          d(x_i) for centre)
+ * (d the container's signed distance, the force along its gradient) are
+ * placed at random, overlapping, with their radii scaled so that they
+ * overfill the container, and U is minimised by FIRE (Bitzek et al. 2006,
+ * with the semi-implicit Euler step of Guenole et al. 2020). Then one
+ * scale for all radii is sought where the minimised packing just jams
+ * (O'Hern et al. 2003): a minimum with overlaps left is jammed, and its
+ * radii shrink by its mean relative overlap (the affine estimate of the
+ * jamming point); a minimum without is not, and the scale goes halfway
+ * back to the last jammed one. It ends when the largest overlap of a
+ * jammed minimum is below FINISH_OVERLAP or the bracket is narrower than
+ * FINISH_BRACKET; an exact last step then scales all radii by one factor
+ * so that no pair and no wall overlaps at all (in double precision).
+ *
+ * Speed: positions are kept in cell order (re-sorted when the neighbour
+ * list is rebuilt), the list holds every pair within r_i + r_j + skin and
+ * is rebuilt only when a sphere has moved half the skin; the wall is
+ * sampled only for spheres the list build found within reach of it.
+ * Determinism: work is split into a fixed number of chunks whatever the
+ * thread count, each sphere's force is summed over its own list in a fixed
+ * order, and the chunks' sums are added in chunk order. */
+#include "core/container.h"
+#include "core/context.h"
+#include "core/geom.h"
+#include "core/parallel.h"
+#include "core/rng.h"
+#include "core/size_dist_sample.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NCHUNK 256 /* at most; n / 512 for fewer spheres, never fewer than 1 */
+/* FIRE (Bitzek et al. 2006, their Table I) in units where k = m = 1 */
+#define FIRE_DT0 0.02
+#define FIRE_DTMAX 0.2
+#define FIRE_NDELAY 5
+#define FIRE_FINC 1.1
+#define FIRE_FDEC 0.5
+#define FIRE_ALPHA0 0.1
+#define FIRE_FALPHA 0.99
+/* A minimum: the rms force below FORCE_TOL of the rms overlap (balanced),
+ * or almost no overlap left (rms below UNJAMMED of the mean diameter). */
+#define FORCE_TOL 3e-3
+#define UNJAMMED (1e-3 * FINISH_OVERLAP)
+#define MAX_STEPS 200000   /* FIRE steps of one minimisation, at most */
+#define MAX_MINIMIZATIONS 60
+#define START_FRACTION 0.70
+#define FINISH_OVERLAP 8e-5 /* largest overlap / (r_i + r_j) of the last minimum */
+#define FINISH_BRACKET 1e-6
+#define SKIN 0.15           /* of the mean diameter */
+#define CORE_DIAMETERS 5.0
+
+void vp_jam_params_init(vp_jam_params *p) {
+    memset(p, 0, sizeof *p);
+    p->fit = VP_FIT_INSIDE;
+    vp_size_dist_constant(&p->radius, 1.0);
+    p->target_fraction = 0.64;
+    p->tolerance = 1e-6;
+    p->contact_gap = 1e-4;
+}
+
+typedef struct jam {
+    const vp_container *c;
+    vp_fit fit;
+    size_t n;
+    double *x;        /* 3n positions, in cell order */
+    float *v;         /* 3n velocities */
+    float *f;         /* 3n forces */
+    double *r0;       /* n radii of the distribution; r_i = scale r0_i */
+    float *xr;        /* 3n positions at the last list build */
+    uint32_t *id;     /* n: the sphere's index in the output */
+    uint32_t *off;    /* n + 1: list of sphere i is nb[off[i] .. off[i+1]) */
+    uint32_t *nb;
+    size_t nb_cap;
+    uint8_t *near_wall; /* n: within reach of the wall until the next build */
+    double scale, skin, r0max, dmean;
+    /* the cell grid of list builds */
+    double lo[3], cell;
+    int dims[3];
+    uint32_t *cstart; /* cells + 1 */
+    size_t ncells;
+    /* a step's parameters and the chunks' sums */
+    double dt, alpha, vscale; /* mixing: v <- (1 - alpha) v + vscale F */
+    int zero_v;
+    size_t chunk, nchunk;
+    double sum[NCHUNK][6]; /* energy, F.v, F.F, v.v, max displacement^2, overlaps */
+} jam;
+
+static void chunk_range(const jam *s, size_t ci, size_t *lo, size_t *hi) {
+    *lo = ci * s->chunk;
+    *hi = *lo + s->chunk;
+    if (*lo > s->n) *lo = s->n;
+    if (*hi > s->n) *hi = s->n;
+}
+
+/* The wall's overlap of a sphere of radius r at x (<= 0: none) and, when
+ * it overlaps, the direction the wall pushes it back: minus a gradient of
+ * d taken by central differences r/2 either side of x. The
+ * container's own gradient jumps across its medial axis (at an edge of a
+ * box, from one face's normal to the other's), where a sphere touching
+ * both faces was pushed by one and then the other in turn and FIRE never
+ * settled; the differences blend the two over r/2, so the wall's force is
+ * continuous. */
+static double wall_overlap(const jam *s, const double *x, double r, double g[3]) {
+    double d = vp_container_distance(s->c, x);
+    double w = s->fit == VP_FIT_INSIDE ? d + r : d;
+    if (w <= 0) return w;
+    double h = 0.5 * r, n2 = 0;
+    for (int a = 0; a < 3; a++) {
+        double p[3] = {x[0], x[1], x[2]}, q[3] = {x[0], x[1], x[2]};
+        p[a] += h;
+        q[a] -= h;
+        g[a] = vp_container_distance(s->c, p) - vp_container_distance(s->c, q);
+    }
+    for (int a = 0; a < 3; a++) n2 += g[a] * g[a];
+    if (n2 > 0) {
+        double inv = 1.0 / sqrt(n2);
+        for (int a = 0; a < 3; a++) g[a] *= inv;
+    } else {
+        vp_container_gradient(s->c, x, g);
+    }
+    return w;
+}
+
+/* ---- the neighbour list ------------------------------------------------ */
+
+static size_t cell_of(const jam *s, const double *x) {
+    int c[3];
+    for (int k = 0; k < 3; k++) {
+        double t = (x[k] - s->lo[k]) / s->cell;
+        int i = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
+        c[k] = i;
+    }
+    return ((size_t)c[2] * (size_t)s->dims[1] + (size_t)c[1]) * (size_t)s->dims[0] + (size_t)c[0];
+}
+
+/* Sets the grid for cells of at least `cell` (the largest pair reach),
+ * over the container's box grown by it, with at most about 8n cells. */
+static int grid_init(jam *s, double cell) {
+    const vp_container_info *ci = &s->c->info;
+    for (;;) {
+        double cells = 1;
+        for (int k = 0; k < 3; k++) {
+            s->lo[k] = ci->bmin[k] - cell;
+            double d = ceil((ci->bmax[k] - ci->bmin[k] + 2 * cell) / cell);
+            s->dims[k] = d < 1 ? 1 : d > 1e6 ? 1000000 : (int)d;
+            cells *= s->dims[k];
+        }
+        if (cells <= 8.0 * (double)s->n + 64) break;
+        cell *= 1.25;
+    }
+    s->cell = cell;
+    s->ncells = (size_t)s->dims[0] * s->dims[1] * s->dims[2];
+    free(s->cstart);
+    s->cstart = malloc((s->ncells + 1) * sizeof *s->cstart);
+    return s->cstart ? 0 : -1;
+}
+
+/* Reorders the spheres by cell (a stable counting sort: deterministic)
+ * and fills cstart. tmp: 3n doubles of scratch. */
+static int sort_by_cell(jam *s) {
+    size_t n = s->n, nc = s->ncells;
+    uint32_t *key = malloc(n * sizeof *key), *perm = malloc(n * sizeof *perm);
+    double *tmp = malloc(3 * n * sizeof *tmp);
+    if (!key || !perm || !tmp) {
+        free(key);
+        free(perm);
+        free(tmp);
+        return -1;
+    }
+    memset(s->cstart, 0, (nc + 1) * sizeof *s->cstart);
+    for (size_t i = 0; i < n; i++) {
+        key[i] = (uint32_t)cell_of(s, s->x + 3 * i);
+        s->cstart[key[i] + 1]++;
+    }
+    for (size_t c = 0; c < nc; c++) s->cstart[c + 1] += s->cstart[c];
+    /* perm[new] = old */
+    uint32_t *pos = malloc(nc * sizeof *pos);
+    if (!pos) {
+        free(key);
+        free(perm);
+        free(tmp);
+        return -1;
+    }
+    memcpy(pos, s->cstart, nc * sizeof *pos);
+    for (size_t i = 0; i < n; i++) perm[pos[key[i]]++] = (uint32_t)i;
+    free(pos);
+    free(key);
+    /* apply: x (via tmp), then v, f (as floats in tmp), r0, id */
+    for (size_t i = 0; i < n; i++) memcpy(tmp + 3 * i, s->x + 3 * (size_t)perm[i], 3 * sizeof *tmp);
+    memcpy(s->x, tmp, 3 * n * sizeof *tmp);
+    float *tf = (float *)tmp;
+    for (size_t i = 0; i < n; i++) memcpy(tf + 3 * i, s->v + 3 * (size_t)perm[i], 3 * sizeof *tf);
+    memcpy(s->v, tf, 3 * n * sizeof *tf);
+    for (size_t i = 0; i < n; i++) tmp[i] = s->r0[perm[i]];
+    memcpy(s->r0, tmp, n * sizeof *tmp);
+    uint32_t *tu = (uint32_t *)tmp;
+    for (size_t i = 0; i < n; i++) tu[i] = s->id[perm[i]];
+    memcpy(s->id, tu, n * sizeof *tu);
+    free(perm);
+    free(tmp);
+    return 0;
+}
+
+typedef struct build_pass {
+    jam *s;
+    int fill; /* 0: count into off[i + 1]; 1: write nb */
+} build_pass;
+
+static void build_chunk(void *user, size_t ci) {
+    build_pass *b = user;
+    jam *s = b->s;
+    size_t lo, hi;
+    chunk_range(s, ci, &lo, &hi);
+    const double reach_extra = s->skin;
+    for (size_t i = lo; i < hi; i++) {
+        const double *xi = s->x + 3 * i;
+        double ri = s->scale * s->r0[i];
+        int c[3];
+        for (int k = 0; k < 3; k++) {
+            double t = (xi[k] - s->lo[k]) / s->cell;
+            c[k] = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
+        }
+        uint32_t k_out = b->fill ? s->off[i] : 0, count = 0;
+        for (int dz = -1; dz <= 1; dz++) {
+            int z = c[2] + dz;
+            if (z < 0 || z >= s->dims[2]) continue;
+            for (int dy = -1; dy <= 1; dy++) {
+                int y = c[1] + dy;
+                if (y < 0 || y >= s->dims[1]) continue;
+                size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
+                int x0 = c[0] > 0 ? c[0] - 1 : 0, x1 = c[0] + 1 < s->dims[0] ? c[0] + 1 : c[0];
+                uint32_t a = s->cstart[row + (size_t)x0], e = s->cstart[row + (size_t)x1 + 1];
+                for (uint32_t j = a; j < e; j++) {
+                    if (j == i) continue;
+                    const double *xj = s->x + 3 * (size_t)j;
+                    double reach = ri + s->scale * s->r0[j] + reach_extra;
+                    double dx = xi[0] - xj[0], dy2 = xi[1] - xj[1], dz2 = xi[2] - xj[2];
+                    if (dx * dx + dy2 * dy2 + dz2 * dz2 < reach * reach) {
+                        if (b->fill) s->nb[k_out + count] = j;
+                        count++;
+                    }
+                }
+            }
+        }
+        if (!b->fill) {
+            s->off[i + 1] = count;
+            /* the wall: within reach until a sphere has moved skin / 2 */
+            double d = vp_container_distance(s->c, xi);
+            double w = s->fit == VP_FIT_INSIDE ? d + ri : d;
+            s->near_wall[i] = w > -reach_extra;
+            for (int k = 0; k < 3; k++) s->xr[3 * i + k] = (float)xi[k];
+        }
+    }
+}
+
+/* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory). */
+static int build_list(jam *s, int threads) {
+    if (sort_by_cell(s) != 0) return -1;
+    build_pass b = {s, 0};
+    s->off[0] = 0;
+    vp_parallel_for(threads, s->nchunk, build_chunk, &b);
+    for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
+    size_t total = s->off[s->n];
+    if (total > s->nb_cap) {
+        size_t cap = total + total / 8 + 64;
+        uint32_t *nb = realloc(s->nb, cap * sizeof *nb);
+        if (!nb) return -1;
+        s->nb = nb;
+        s->nb_cap = cap;
+    }
+    b.fill = 1;
+    vp_parallel_for(threads, s->nchunk, build_chunk, &b);
+    return 0;
+}
+
+/* ---- forces and the FIRE step -------------------------------------------- */
+
+static void force_chunk(void *user, size_t ci) {
+    jam *s = user;
+    size_t lo, hi;
+    chunk_range(s, ci, &lo, &hi);
+    double e = 0, fv = 0, ff = 0, vv = 0, ov = 0;
+    const double sc = s->scale;
+    for (size_t i = lo; i < hi; i++) {
+        const double *xi = s->x + 3 * i;
+        double ri = sc * s->r0[i], fx = 0, fy = 0, fz = 0;
+        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
+            uint32_t j = s->nb[k];
+            const double *xj = s->x + 3 * (size_t)j;
+            double sij = ri + sc * s->r0[j];
+            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+            double d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 >= sij * sij) continue;
+            double d = sqrt(d2);
+            double dl = sij - d;
+            if (d > 0) {
+                double g = dl / d;
+                fx += g * dx;
+                fy += g * dy;
+                fz += g * dz;
+            } else {
+                fx += i < j ? dl : -dl; /* coincident centres: apart along x */
+            }
+            e += 0.25 * dl * dl;
+            ov += 0.5 * dl / sij;
+        }
+        if (s->near_wall[i]) {
+            double g[3];
+            double w = wall_overlap(s, xi, ri, g);
+            if (w > 0) {
+                fx -= w * g[0];
+                fy -= w * g[1];
+                fz -= w * g[2];
+                e += 0.5 * w * w;
+                ov += w / (2 * ri);
+            }
+        }
+        float *fi = s->f + 3 * i;
+        const float *vi = s->v + 3 * i;
+        fi[0] = (float)fx;
+        fi[1] = (float)fy;
+        fi[2] = (float)fz;
+        fv += fx * vi[0] + fy * vi[1] + fz * vi[2];
+        ff += fx * fx + fy * fy + fz * fz;
+        vv += (double)vi[0] * vi[0] + (double)vi[1] * vi[1] + (double)vi[2] * vi[2];
+    }
+    s->sum[ci][0] = e;
+    s->sum[ci][1] = fv;
+    s->sum[ci][2] = ff;
+    s->sum[ci][3] = vv;
+    s->sum[ci][5] = ov;
+}
+
+static void move_chunk(void *user, size_t ci) {
+    jam *s = user;
+    size_t lo, hi;
+    chunk_range(s, ci, &lo, &hi);
+    const double dt = s->dt, a = 1.0 - s->alpha, b = s->vscale;
+    double dmax = 0;
+    for (size_t i = lo; i < hi; i++) {
+        float *vi = s->v + 3 * i;
+        const float *fi = s->f + 3 * i;
+        double *xi = s->x + 3 * i;
+        const float *xr = s->xr + 3 * i;
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double v = s->zero_v ? 0.0 : a * vi[k] + b * fi[k];
+            v += dt * fi[k];
+            vi[k] = (float)v;
+            xi[k] += dt * v;
+            double d = xi[k] - xr[k];
+            d2 += d * d;
+        }
+        if (d2 > dmax) dmax = d2;
+    }
+    s->sum[ci][4] = dmax;
+}
+
+typedef struct sums {
+    double e, fv, ff, vv, disp2, ov;
+} sums;
+
+static sums add_up(const jam *s, int col_max4) {
+    sums t = {0, 0, 0, 0, 0, 0};
+    for (size_t c = 0; c < s->nchunk; c++) {
+        t.e += s->sum[c][0];
+        t.fv += s->sum[c][1];
+        t.ff += s->sum[c][2];
+        t.vv += s->sum[c][3];
+        t.ov += s->sum[c][5];
+        if (col_max4 && s->sum[c][4] > t.disp2) t.disp2 = s->sum[c][4];
+    }
+    return t;
+}
+
+typedef struct minimum {
+    double e;       /* energy per sphere / dmean^2 */
+    double rms;     /* rms force / dmean */
+    long steps;
+    int jammed;
+} minimum;
+
+/* Minimises U at the current scale by FIRE. Returns 0, -1 (out of
+ * memory) or -2 (cancelled). */
+static int minimize(jam *s, vp_context *ctx, int threads, double ftol, minimum *m,
+                    long *steps_total, int *builds, double progress_lo, double progress_hi) {
+    size_t n = s->n;
+    double dm = s->dmean;
+    memset(s->v, 0, 3 * n * sizeof *s->v);
+    s->dt = FIRE_DT0;
+    s->alpha = FIRE_ALPHA0;
+    int npos = 0;
+    long step;
+    sums t = {0, 0, 0, 0, 0, 0};
+    for (step = 0; step < MAX_STEPS; step++) {
+        vp_parallel_for(threads, s->nchunk, force_chunk, s);
+        t = add_up(s, 0);
+        double rms_overlap = sqrt(2.0 * t.e / (double)n);
+        double rms_force = sqrt(t.ff / (double)n);
+        if (rms_overlap < UNJAMMED * dm) break;
+        if (rms_force < ftol * rms_overlap) break;
+        if ((step & 255) == 255) {
+            double frac = progress_lo + (progress_hi - progress_lo) * (1.0 - exp(-step / 20000.0));
+            if (!vp_report_progress(ctx, frac, "jam")) return -2;
+        }
+        /* FIRE */
+        s->zero_v = 0;
+        if (t.fv > 0) {
+            if (++npos > FIRE_NDELAY) {
+                s->dt = s->dt * FIRE_FINC < FIRE_DTMAX ? s->dt * FIRE_FINC : FIRE_DTMAX;
+                s->alpha *= FIRE_FALPHA;
+            }
+        } else {
+            npos = 0;
+            s->dt *= FIRE_FDEC;
+            s->alpha = FIRE_ALPHA0;
+            s->zero_v = 1;
+        }
+        s->vscale = t.ff > 0 ? s->alpha * sqrt(t.vv / t.ff) : 0.0;
+        vp_parallel_for(threads, s->nchunk, move_chunk, s);
+        sums mv = add_up(s, 1);
+        if (mv.disp2 > 0.25 * s->skin * s->skin) {
+            if (build_list(s, threads) != 0) return -1;
+            (*builds)++;
+        }
+    }
+    m->e = t.e / (double)n / (dm * dm);
+    m->rms = sqrt(t.ff / (double)n) / dm;
+    m->steps = step;
+    m->jammed = sqrt(2.0 * t.e / (double)n) >= UNJAMMED * dm;
+    *steps_total += step;
+    return 0;
+}
+
+/* The largest relative overlap (pairs over r_i + r_j, the wall over r_i)
+ * at the current scale, and the mean over overlapping contacts. */
+typedef struct overlap_q {
+    jam *s;
+    double worst[NCHUNK], sum[NCHUNK];
+    size_t count[NCHUNK];
+} overlap_q;
+
+static void overlap_chunk(void *user, size_t ci) {
+    overlap_q *q = user;
+    jam *s = q->s;
+    size_t lo, hi;
+    chunk_range(s, ci, &lo, &hi);
+    double worst = 0, sum = 0;
+    size_t count = 0;
+    for (size_t i = lo; i < hi; i++) {
+        const double *xi = s->x + 3 * i;
+        double ri = s->scale * s->r0[i];
+        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
+            uint32_t j = s->nb[k];
+            if (j < i) continue;
+            const double *xj = s->x + 3 * (size_t)j;
+            double sij = ri + s->scale * s->r0[j];
+            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+            double d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 >= sij * sij) continue;
+            double o = (sij - sqrt(d2)) / sij;
+            if (o > worst) worst = o;
+            sum += o;
+            count++;
+        }
+        if (s->near_wall[i]) {
+            double g[3];
+            double w = wall_overlap(s, xi, ri, g);
+            if (w > 0) {
+                double o = w / ri; /* the factor the last step takes from the radii */
+                if (o > worst) worst = o;
+                sum += o;
+                count++;
+            }
+        }
+    }
+    q->worst[ci] = worst;
+    q->sum[ci] = sum;
+    q->count[ci] = count;
+}
+
+static void overlaps(jam *s, int threads, double *worst, double *mean) {
+    overlap_q *q = malloc(sizeof *q);
+    *worst = *mean = 0;
+    if (!q) return;
+    q->s = s;
+    vp_parallel_for(threads, s->nchunk, overlap_chunk, q);
+    double w = 0, sum = 0;
+    size_t count = 0;
+    for (size_t c = 0; c < s->nchunk; c++) {
+        if (q->worst[c] > w) w = q->worst[c];
+        sum += q->sum[c];
+        count += q->count[c];
+    }
+    free(q);
+    *worst = w;
+    *mean = count ? sum / (double)count : 0.0;
+}
+
+/* ---- the exact last step ------------------------------------------------- */
+
+/* The largest factor (<= 1) for all radii at which no pair and no wall
+ * overlaps, at the current positions (the list is current). */
+static double safe_factor(jam *s) {
+    double f = 1.0;
+    for (size_t i = 0; i < s->n; i++) {
+        const double *xi = s->x + 3 * i;
+        double r0i = s->r0[i];
+        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
+            uint32_t j = s->nb[k];
+            if (j < i) continue;
+            const double *xj = s->x + 3 * (size_t)j;
+            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+            double d = sqrt(dx * dx + dy * dy + dz * dz);
+            double g = d / (s->scale * (r0i + s->r0[j]));
+            if (g < f) f = g;
+        }
+        if (s->fit == VP_FIT_INSIDE) {
+            double d = vp_container_distance(s->c, xi);
+            double g = -d / (s->scale * r0i);
+            if (g < f) f = g;
+        }
+    }
+    return f;
+}
+
+/* Centres outside the container (or, fit inside, closer to the wall than
+ * a small part of their radius) move back along the gradient. */
+static void project_centres(jam *s) {
+    for (size_t i = 0; i < s->n; i++) {
+        double *x = s->x + 3 * i;
+        double want = s->fit == VP_FIT_INSIDE ? -0.5 * s->scale * s->r0[i] : 0.0;
+        for (int it = 0; it < 8; it++) {
+            double d = vp_container_distance(s->c, x);
+            if (d <= want) break;
+            double g[3];
+            vp_container_gradient(s->c, x, g);
+            double step = (d - want) * (1.0 + 1e-9) + 1e-12 + 1e-9 * s->scale * s->r0[i] * (1 << it);
+            for (int k = 0; k < 3; k++) x[k] -= step * g[k];
+        }
+    }
+}
+
+/* ---- contacts, rattlers and the core -------------------------------------- */
+
+static void contacts(jam *s, double gap, vp_jam_report *rep) {
+    size_t n = s->n;
+    uint8_t *z = calloc(n, 1);
+    uint8_t *rattler = calloc(n, 1);
+    if (!z || !rattler) {
+        free(z);
+        free(rattler);
+        return;
+    }
+    /* contact counts (pairs both ways, the wall once) */
+    for (size_t i = 0; i < n; i++) {
+        const double *xi = s->x + 3 * i;
+        double ri = s->scale * s->r0[i];
+        unsigned c = 0;
+        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
+            uint32_t j = s->nb[k];
+            const double *xj = s->x + 3 * (size_t)j;
+            double sij = ri + s->scale * s->r0[j];
+            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+            if (sqrt(dx * dx + dy * dy + dz * dz) - sij < gap * sij) c++;
+        }
+        if (s->near_wall[i]) {
+            double d = vp_container_distance(s->c, xi);
+            double w = s->fit == VP_FIT_INSIDE ? -d - ri : -d;
+            if (w < gap * 2 * ri) c++;
+        }
+        z[i] = (uint8_t)(c > 255 ? 255 : c);
+    }
+    /* rattlers: fewer than 4 contacts with non-rattlers, removed until none
+     * is left (removing one takes a contact from each neighbour) */
+    int changed = 1;
+    while (changed) {
+        changed = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (rattler[i] || z[i] >= 4) continue;
+            rattler[i] = 1;
+            changed = 1;
+            const double *xi = s->x + 3 * i;
+            double ri = s->scale * s->r0[i];
+            for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
+                uint32_t j = s->nb[k];
+                const double *xj = s->x + 3 * (size_t)j;
+                double sij = ri + s->scale * s->r0[j];
+                double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+                if (sqrt(dx * dx + dy * dy + dz * dz) - sij < gap * sij && z[j] > 0) z[j]--;
+            }
+        }
+    }
+    size_t nr = 0, zsum = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (rattler[i]) nr++;
+        else zsum += z[i];
+    }
+    rep->rattler_fraction = (double)nr / (double)n;
+    rep->mean_contacts = n > nr ? (double)zsum / (double)(n - nr) : 0.0;
+    free(z);
+    free(rattler);
+}
+
+/* The core: centres deeper than CORE_DIAMETERS mean diameters (none when
+ * it holds fewer than 100 spheres). Its volume
+ * is counted on a grid of about 2^21 sample points over the container's box. */
+static void core(jam *s, vp_jam_report *rep) {
+    const vp_container_info *ci = &s->c->info;
+    double depth = CORE_DIAMETERS * s->dmean;
+    size_t count = 0;
+    double vol = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        if (vp_container_distance(s->c, s->x + 3 * i) < -depth) {
+            count++;
+            double r = s->scale * s->r0[i];
+            vol += 4.0 / 3.0 * M_PI * r * r * r;
+        }
+    }
+    double ext[3], bv = 1;
+    for (int k = 0; k < 3; k++) {
+        ext[k] = ci->bmax[k] - ci->bmin[k];
+        bv *= ext[k];
+    }
+    double h = cbrt(bv / 2097152.0);
+    int m[3];
+    for (int k = 0; k < 3; k++) {
+        m[k] = (int)ceil(ext[k] / h);
+        if (m[k] < 1) m[k] = 1;
+    }
+    size_t inside = 0;
+    for (int k = 0; k < m[2]; k++)
+        for (int j = 0; j < m[1]; j++)
+            for (int i = 0; i < m[0]; i++) {
+                double p[3] = {ci->bmin[0] + (i + 0.5) * ext[0] / m[0],
+                               ci->bmin[1] + (j + 0.5) * ext[1] / m[1],
+                               ci->bmin[2] + (k + 0.5) * ext[2] / m[2]};
+                if (vp_container_distance(s->c, p) < -depth) inside++;
+            }
+    double cv = (double)inside * bv / ((double)m[0] * m[1] * m[2]);
+    /* a core of fewer than 100 spheres says nothing: none */
+    if (count < 100 || !(cv > 0)) {
+        count = 0;
+        cv = vol = 0;
+    }
+    rep->core_count = count;
+    rep->core_volume = cv;
+    rep->core_fraction = count ? vol / cv : 0.0;
+}
+
+/* ---- the entry point ------------------------------------------------------ */
+
+static vp_result check_params(vp_context *ctx, const vp_container *c, const vp_jam_params *P) {
+    double dmin = vp_size_dist_min(&P->radius), dmax = vp_size_dist_max(&P->radius);
+    if (!(dmin > 0) || !(dmax >= dmin) || !isfinite(dmax))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "jam: radii must be finite and > 0");
+    if (!(dmin >= FLT_MIN) || !(dmax <= FLT_MAX))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "jam: radii must be in 1.2e-38..3.4e38 (radii are stored as float), "
+                       "not %g..%g", dmin, dmax);
+    if (P->fit != VP_FIT_INSIDE && P->fit != VP_FIT_CENTER)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "jam: unknown fit");
+    if (!(P->tolerance > 0) || !(P->tolerance < 0.1))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "jam: the tolerance must be in (0, 0.1), not %g", P->tolerance);
+    if (!(P->contact_gap > 0) || !(P->contact_gap < 0.1))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "jam: the contact gap must be in (0, 0.1), not %g", P->contact_gap);
+    int equal = dmin == dmax;
+    if (P->count == 0 && (!(P->target_fraction > 0) || !(P->target_fraction < 1)))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "jam: the target fraction must be in (0, 1), not %g", P->target_fraction);
+    if (P->count == 0 && equal && P->target_fraction > VP_KEPLER)
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "jam: a fraction of %g of equal spheres is more than any packing holds "
+                       "(0.7405, the densest); random close packing is about 0.64",
+                       P->target_fraction);
+    if (!c || !(c->info.volume > 0))
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "jam: the container has no volume");
+    return VP_OK;
+}
+
+/* The number of spheres: count, or target_fraction of the volume. */
+static vp_result sphere_count(vp_context *ctx, const vp_container *c, const vp_jam_params *P,
+                              size_t *out) {
+    double m3 = vp_size_dist_mean_cube(&P->radius);
+    double v = 4.0 / 3.0 * M_PI * m3;
+    double n = P->count ? (double)P->count : floor(P->target_fraction * c->info.volume / v + 0.5);
+    if (n < 1)
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "jam: the container (volume %g) holds no sphere of mean volume %g at a "
+                       "fraction of %g", c->info.volume, v, P->target_fraction);
+    if (n >= (double)(UINT32_MAX / 64))
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: %.0f spheres are too many", n);
+    double need = n * 160.0;
+    if (need > (double)vp_memory_limit(ctx)) {
+        char a[32], b[32];
+        vp_format_bytes(need, a, sizeof a);
+        vp_format_bytes((double)vp_memory_limit(ctx), b, sizeof b);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "jam: %.0f spheres would need about %s, over the memory limit of %s", n, a,
+                       b);
+    }
+    *out = (size_t)n;
+    return VP_OK;
+}
+
+static void jam_free(jam *s) {
+    free(s->x);
+    free(s->v);
+    free(s->f);
+    free(s->r0);
+    free(s->xr);
+    free(s->id);
+    free(s->off);
+    free(s->nb);
+    free(s->near_wall);
+    free(s->cstart);
+}
+
+/* Radii from the distribution and centres at random where a sphere of the
+ * given radius fits (overlaps allowed). */
+static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
+    const vp_container_info *ci = &s->c->info;
+    uint64_t rs = vp_rng_stream(P->seed, 1), ps = vp_rng_stream(P->seed, 2);
+    double m = 0, rmax = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        s->r0[i] = vp_size_dist_sample(&P->radius, &rs);
+        m += s->r0[i];
+        if (s->r0[i] > rmax) rmax = s->r0[i];
+        s->id[i] = (uint32_t)i;
+    }
+    s->r0max = rmax;
+    for (size_t i = 0; i < s->n; i++) {
+        double r = s->scale * s->r0[i], lo[3], hi[3];
+        double in = s->fit == VP_FIT_INSIDE ? r : 0.0;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = ci->bmin[k] + in;
+            hi[k] = ci->bmax[k] - in;
+        }
+        int placed = 0;
+        if (hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2])
+            for (int t = 0; t < 100000 && !placed; t++) {
+                double *x = s->x + 3 * i;
+                for (int k = 0; k < 3; k++) x[k] = lo[k] + (hi[k] - lo[k]) * vp_rng_uniform(&ps);
+                placed = vp_container_distance(s->c, x) <= (s->fit == VP_FIT_INSIDE ? -r : 0.0);
+            }
+        if (!placed)
+            return vp_fail(ctx, VP_ERR_NO_FIT,
+                           "jam: no place in the container for a sphere of radius %.6g (%s): "
+                           "the container is smaller than one sphere",
+                           r, s->fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside");
+    }
+    return VP_OK;
+}
+
+vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_params *params,
+                      vp_particles **out, vp_jam_report *report) {
+    double t0 = vp_seconds();
+    if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "jam: out is NULL");
+    *out = NULL;
+    if (!c || !params)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "jam: container and params are required");
+    const vp_jam_params *P = params;
+    vp_result res = check_params(ctx, c, P);
+    if (res != VP_OK) return res;
+    size_t n = 0;
+    res = sphere_count(ctx, c, P, &n);
+    if (res != VP_OK) return res;
+
+    jam s;
+    memset(&s, 0, sizeof s);
+    s.c = c;
+    s.fit = P->fit;
+    s.n = n;
+    s.nchunk = n / 512 < 1 ? 1 : n / 512 > NCHUNK ? NCHUNK : n / 512;
+    s.chunk = (n + s.nchunk - 1) / s.nchunk;
+    s.x = malloc(3 * n * sizeof *s.x);
+    s.v = calloc(3 * n, sizeof *s.v);
+    s.f = calloc(3 * n, sizeof *s.f);
+    s.r0 = malloc(n * sizeof *s.r0);
+    s.xr = malloc(3 * n * sizeof *s.xr);
+    s.id = malloc(n * sizeof *s.id);
+    s.off = malloc((n + 1) * sizeof *s.off);
+    s.near_wall = malloc(n);
+    vp_particles *p = NULL;
+    vp_jam_report rep;
+    memset(&rep, 0, sizeof rep);
+    if (!s.x || !s.v || !s.f || !s.r0 || !s.xr || !s.id || !s.off || !s.near_wall) {
+        res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for %zu spheres", n);
+        goto done;
+    }
+    /* 1. radii scaled to overfill the container, centres at random */
+    double m3 = vp_size_dist_mean_cube(&P->radius), m1 = vp_size_dist_mean(&P->radius);
+    double vmean = 4.0 / 3.0 * M_PI * m3;
+    s.scale = cbrt(START_FRACTION * c->info.volume / ((double)n * vmean));
+    res = place_random(ctx, &s, P);
+    if (res != VP_OK) goto done;
+    (void)m1;
+    double mean_r0 = 0;
+    for (size_t i = 0; i < n; i++) mean_r0 += s.r0[i];
+    mean_r0 /= (double)n;
+    int threads = vp_threads_for(ctx);
+
+    /* 2. minimise, then scale towards the jamming point */
+    double s_lo = 0, s_hi = HUGE_VAL, worst = HUGE_VAL, mean = 0, prev_scale = 0, prev_mean = 0;
+    int builds = 0, mins = 0;
+    long steps = 0;
+    for (mins = 0; mins < MAX_MINIMIZATIONS; mins++) {
+        s.dmean = 2 * s.scale * mean_r0;
+        s.skin = SKIN * s.dmean;
+        if (grid_init(&s, 2 * s.scale * s.r0max + s.skin) != 0 || build_list(&s, threads) != 0) {
+            res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
+            goto done;
+        }
+        builds++;
+        minimum m;
+        double plo = 0.95 * mins / MAX_MINIMIZATIONS;
+        double ftol = mean > 10 * FINISH_OVERLAP ? 10 * FORCE_TOL : FORCE_TOL;
+        int rc = minimize(&s, ctx, threads, ftol, &m, &steps, &builds, plo, plo + 0.95 / MAX_MINIMIZATIONS);
+        if (rc == -2) {
+            res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
+            goto done;
+        }
+        if (rc != 0) {
+            res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
+            goto done;
+        }
+        double next;
+        if (m.jammed) {
+            overlaps(&s, threads, &worst, &mean);
+            if (worst <= FINISH_OVERLAP) {
+                s_hi = s.scale;
+                break;
+            }
+            /* the mean overlap falls linearly to 0 at the jamming point:
+             * the secant through the last two jammed minima (the first
+             * time, twice the affine estimate), aimed at a mean overlap of
+             * a tenth of the finish */
+            double aim = 0.2 * FINISH_OVERLAP;
+            if (prev_scale > 0 && prev_mean > mean && prev_scale > s.scale)
+                next = s.scale - (mean - aim) * (prev_scale - s.scale) / (prev_mean - mean);
+            else
+                next = s.scale * (1.0 - 2.0 * (mean - aim));
+            prev_scale = s.scale;
+            prev_mean = mean;
+            s_hi = s.scale;
+            if (!(next > s_lo) || !(next < s_hi)) next = 0.5 * (s_lo + s_hi);
+        } else {
+            s_lo = s.scale;
+            worst = mean = 0;
+            next = isfinite(s_hi) ? 0.5 * (s_lo + s_hi) : s.scale * 1.02;
+        }
+        if (isfinite(s_hi) && s_lo > 0 && (s_hi - s_lo) < FINISH_BRACKET * s_hi) {
+            /* the bracket closed on an unjammed minimum, whose gaps are
+             * not contacts: the jammed side's, minimised, is the end */
+            if (!m.jammed) {
+                s.scale = s_hi;
+                if (build_list(&s, threads) != 0) {
+                    res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                                  "jam: out of memory for the neighbour list");
+                    goto done;
+                }
+                builds++;
+                rc = minimize(&s, ctx, threads, FORCE_TOL, &m, &steps, &builds, 0.95, 0.96);
+                if (rc == -2) {
+                    res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
+                    goto done;
+                }
+                if (rc != 0) {
+                    res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                                  "jam: out of memory for the neighbour list");
+                    goto done;
+                }
+            }
+            break;
+        }
+        s.scale = next;
+    }
+    if (!vp_report_progress(ctx, 0.96, "jam")) {
+        res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
+        goto done;
+    }
+
+    /* 3. the exact last step: one factor for all radii, no overlap left */
+    project_centres(&s);
+    s.skin = SKIN * s.dmean;
+    if (build_list(&s, threads) != 0) {
+        res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
+        goto done;
+    }
+    builds++;
+    double f = safe_factor(&s);
+    if (!(f > 0.5)) {
+        res = vp_fail(ctx, VP_ERR_NO_FIT,
+                      "jam: no overlap-free state without shrinking the spheres by half (%g)", f);
+        goto done;
+    }
+    s.scale *= f * (1.0 - 4 * DBL_EPSILON);
+    double last_worst, last_mean;
+    overlaps(&s, threads, &last_worst, &last_mean);
+
+    /* 4. what the packing is: contacts, rattlers, the core */
+    contacts(&s, P->contact_gap, &rep);
+    core(&s, &rep);
+
+    /* 5. the output, in the order the spheres were drawn */
+    free(s.v);
+    free(s.f);
+    free(s.nb);
+    s.v = NULL;
+    s.f = NULL;
+    s.nb = NULL;
+    s.nb_cap = 0;
+    res = vp_particles_create(ctx, n, &p);
+    if (res != VP_OK) goto done;
+    p->radii = malloc(n * sizeof *p->radii);
+    if (!p->radii) {
+        res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory");
+        goto done;
+    }
+    double vol = 0;
+    for (size_t i = 0; i < n; i++) {
+        size_t o = s.id[i];
+        memcpy(p->positions + 3 * o, s.x + 3 * i, 3 * sizeof(double));
+        double r = s.scale * s.r0[i];
+        float rf = (float)r;
+        while ((double)rf > r) rf = nextafterf(rf, 0.0f);
+        p->radii[o] = rf;
+        vol += (double)rf * rf * rf;
+    }
+    vol *= 4.0 / 3.0 * M_PI;
+    p->count = n;
+    p->shape = VP_SHAPE_SPHERE;
+    if (!vp_report_progress(ctx, 1.0, "jam")) {
+        res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
+        goto done;
+    }
+    if (report) {
+        rep.count = n;
+        rep.fraction = vol / c->info.volume;
+        rep.max_overlap = last_worst;
+        rep.radius_scale = s.scale;
+        rep.particle_volume = vol;
+        rep.minimizations = mins + 1;
+        rep.iterations = steps;
+        rep.list_builds = builds;
+        rep.seconds = vp_seconds() - t0;
+        *report = rep;
+    }
+    *out = p;
+    p = NULL;
+done:
+    vp_particles_destroy(p);
+    jam_free(&s);
+    return res;
+}
+
+void vp_container_params_for_jam(vp_container_params *cp, const vp_jam_params *xp) {
+    if (!cp || !xp) return;
+    cp->narrow_band = 0;
+    cp->particle_count = xp->count;
+    /* the radii end near those that fill 0.64 (any count); the band must
+     * reach the largest at the start, when they overfill by START_FRACTION */
+    double rmax = vp_size_dist_max(&xp->radius), m3 = vp_size_dist_mean_cube(&xp->radius);
+    cp->particle_radius = 0;
+    cp->space_per_particle = 4.0 / 3.0 * M_PI * (m3 / (rmax * rmax * rmax)) / START_FRACTION;
+    if (!xp->count) {
+        cp->particle_radius = rmax * cbrt(START_FRACTION / xp->target_fraction);
+        cp->space_per_particle = 0;
+    }
+}

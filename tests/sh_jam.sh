@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# --method jam through the command line (issue 28): packings that
+# `vdbpack check` passes and that an independent numpy check of every pair
+# and of the wall passes too (from the CSV), the same file on 1 and 2
+# threads, the report in --json and the file's metadata, and bad input
+# (one line, non-zero exit, no output file).
+set -euo pipefail
+: "${VDBPACK:?}"
+PY=/usr/bin/python3
+W=$(mktemp -d); trap 'rm -rf "$W"' EXIT; cd "$W"
+die() { echo "FAIL: $*"; exit 1; }
+
+# 1. box and sphere containers, equal and lognormal radii
+for spec in "box:1,1,1 --count 600" "sphere:1 --count 500 --radius lognormal:0.05:0.01" \
+            "box:1,1,1 --radius 0.06 --target-fraction 0.6"; do
+  read -r cont rest <<<"$spec"
+  # shellcheck disable=SC2086
+  "$VDBPACK" pack "$cont" --method jam $rest -o p.csv --json >p.json 2>err.txt || die "$spec: $(cat err.txt)"
+  # shellcheck disable=SC2086
+  "$VDBPACK" pack "$cont" --method jam $rest -o p.vdb -q --threads 1 || die "$spec: vdb"
+  "$VDBPACK" check p.vdb --container "$cont" -q || die "$spec: check failed"
+  $PY - "$cont" <<'PY' || die "$spec: the independent check"
+import json, sys
+import numpy as np
+cont = sys.argv[1]
+d = json.load(open("p.json"))
+a = np.loadtxt("p.csv", delimiter=",", skiprows=1, usecols=(1, 2, 3, 4))
+x, r = a[:, :3], a[:, 3]
+n = len(r)
+assert n == d["count"], (n, d["count"])
+worst = 0.0
+for i in range(n - 1):
+    dist = np.linalg.norm(x[i + 1:] - x[i], axis=1)
+    s = r[i + 1:] + r[i]
+    worst = max(worst, float(((s - dist) / s).max()))
+assert worst <= 1e-6, "pair overlap %g" % worst
+if cont.startswith("box"):
+    wall = (np.abs(x).max(axis=1) + r - 0.5).max()
+else:
+    wall = (np.linalg.norm(x, axis=1) + r - 1.0).max()
+assert wall <= 1e-6, "outside by %g" % wall
+frac = (4 / 3 * np.pi * r ** 3).sum() / d["container_volume"]
+assert abs(frac - d["packing_fraction"]) < 1e-4, (frac, d["packing_fraction"])
+assert 4.5 < d["mean_contacts"] < 6.5 and d["max_overlap"] <= 1e-6, d
+print("  ok: %s: %d spheres, fraction %.4f, Z %.3f, rattlers %.3f, worst pair %.2g, wall %.2g"
+      % (cont, n, frac, d["mean_contacts"], d["rattler_fraction"], worst, wall))
+PY
+done
+
+# 2. the same file on 1 and 2 threads; metadata
+# (by VDBPACK_THREADS, in two folders: the command line is in the file)
+mkdir -p a b
+(cd a && VDBPACK_THREADS=1 "$VDBPACK" pack box:1,1,1 --method jam --count 400 --radius uniform:0.01:0.02 -o t.vdb -q)
+(cd b && VDBPACK_THREADS=2 "$VDBPACK" pack box:1,1,1 --method jam --count 400 --radius uniform:0.01:0.02 -o t.vdb -q)
+cp a/t.vdb t1.vdb
+cp b/t.vdb t2.vdb
+cmp t1.vdb t2.vdb || die "--threads 1 and 2 give different files"
+info=$("$VDBPACK" info t1.vdb)
+for k in "method = jam" mean_contacts rattler_fraction max_overlap radius_scale; do
+  case "$info" in *"$k"*) ;; *) die "metadata lacks $k";; esac
+done
+echo "  ok: the same file on 1 and 2 threads; metadata names the method and its report"
+
+# 3. bad input: one line, non-zero exit, no output file
+bad() { # DESCRIPTION ARGS...
+  local what=$1; shift
+  rm -f bad.vdb
+  local rc=0
+  "$VDBPACK" pack "$@" -o bad.vdb >out.txt 2>err.txt || rc=$?
+  [ "$rc" != 0 ] || die "$what: exit 0"
+  [ "$(wc -l <err.txt)" = 1 ] || die "$what: $(wc -l <err.txt) lines: $(cat err.txt)"
+  [ ! -e bad.vdb ] || die "$what: bad.vdb left"
+  echo "  ok: $what: exit $rc: $(cat err.txt)"
+}
+bad "a fraction above 0.74 of equal spheres" box:1,1,1 --method jam --radius 0.01 --target-fraction 0.75
+bad "a count that cannot fit" box:1,1,1 --method jam --count 1000 --radius 0.1
+bad "a zero radius" box:1,1,1 --method jam --count 10 --radius 0
+bad "a negative radius" box:1,1,1 --method jam --count 10 --radius -1
+bad "a container smaller than one sphere" box:1,1,1 --method jam --radius 2
+bad "no count and no radius" box:1,1,1 --method jam
+bad "--count and --target-fraction" box:1,1,1 --method jam --count 10 --target-fraction 0.6
+bad "a solid shape" box:1,1,1 --method jam --count 10 --shape cube
+bad "--count max" box:1,1,1 --method jam --count max --radius 0.1
+echo "sh_jam: all passed"
