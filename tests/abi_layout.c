@@ -59,13 +59,14 @@ static void structs(void) {
     F(vp_particles, radii); F(vp_particles, uniform_radius); F(vp_particles, orients);
     F(vp_particles, uniform_orient); F(vp_particles, has_orient); F(vp_particles, shape);
     F(vp_particles, mesh); F(vp_particles, groups); F(vp_particles, group_count);
-    F(vp_particles, group_names); F(vp_particles, position_error);
+    F(vp_particles, group_names); F(vp_particles, position_error); F(vp_particles, shape_param);
     printf("}");
 
     S(vp_lattice_params);
     F(vp_lattice_params, shape); F(vp_lattice_params, lattice); F(vp_lattice_params, fit);
     F(vp_lattice_params, radius); F(vp_lattice_params, count); F(vp_lattice_params, offsets);
     F(vp_lattice_params, rotate); F(vp_lattice_params, rotations); F(vp_lattice_params, seed);
+    F(vp_lattice_params, shape_param);
     printf("}");
 
     S(vp_lattice_report);
@@ -106,6 +107,7 @@ static void structs(void) {
     F(vp_rsa_params, fit); F(vp_rsa_params, shape); F(vp_rsa_params, mesh);
     F(vp_rsa_params, orient); F(vp_rsa_params, overlap); F(vp_rsa_params, passes);
     F(vp_rsa_params, npasses); F(vp_rsa_params, seed); F(vp_rsa_params, max_cells);
+    F(vp_rsa_params, shape_param);
     printf("}");
 
     S(vp_rsa_pass_report);

@@ -56,6 +56,7 @@ typedef struct vp_rsa_params {
                                   8 to 16 bytes each for spheres, 5 to 13 for
                                   solids); 0 = automatic, 32 x the
                                   expected count of the pass (at least 65536) */
+    double shape_param;        /* VP_SHAPE_SUPERBALL: the exponent p */
 } vp_rsa_params;
 VP_API void vp_rsa_params_init(vp_rsa_params *p);
 

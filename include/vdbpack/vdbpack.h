@@ -121,7 +121,11 @@ typedef enum vp_shape {
     VP_SHAPE_DODECAHEDRON,
     VP_SHAPE_ICOSAHEDRON,
     VP_SHAPE_COUNT,        /* the number of built-in shapes above */
-    VP_SHAPE_MESH = 64     /* a closed mesh from a file (vp_mesh_shape) */
+    VP_SHAPE_MESH = 64,    /* a closed mesh from a file (vp_mesh_shape) */
+    VP_SHAPE_SUPERBALL = 65 /* |x|^2p + |y|^2p + |z|^2p <= 1, convex (0.5 <= p <=
+                              1000): p = 1 a sphere, 0.5 an octahedron, large
+                              p nearly a cube; p is the shape_param field of
+                              the particle set and of the packers' params */
 } vp_shape;
 
 /* "sphere", "cube", ..., "mesh"; NULL for an invalid value. */
@@ -133,6 +137,23 @@ VP_API double vp_shape_unit_volume(vp_shape s);
 /* Writes the unit shape (circumradius 1, centroid at the origin, in the
  * orientation that `orient` = identity means) as an OBJ file, atomically. */
 VP_API vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path);
+
+/* Shapes with a parameter (superballs: the exponent p; ignored by the
+ * other shapes). Parses a shape as the command line takes it: a built-in
+ * name or "superball:P". Returns 0; -1 for an unknown name; -2 for a
+ * superball whose P is not a number in [0.5, 1000] (concave superballs,
+ * p < 0.5, are not offered). */
+VP_API int vp_shape_parse_param(const char *text, vp_shape *out, double *param);
+/* The shape as text ("cube", "superball:2"), in buf (size n; always
+ * terminated); the name as files record it. Returns buf. */
+VP_API const char *vp_shape_format(vp_shape s, double param, char *buf, size_t n);
+/* Volume at bounding radius 1 (superballs: the closed form of Jiao et
+ * al. 2009 scaled to bounding radius 1; 0 for an invalid shape). */
+VP_API double vp_shape_unit_volume_param(vp_shape s, double param);
+/* As vp_shape_write_obj (superballs: a closed tessellation whose vertices
+ * lie on the surface). */
+VP_API vp_result vp_shape_write_obj_param(vp_context *ctx, vp_shape s, double param,
+                                          const char *path);
 
 /* A particle shape from a closed mesh file (any format Assimp reads; convex
  * or not), normalised: the centroid of its volume at the origin and its
@@ -363,6 +384,7 @@ typedef struct vp_particles {
                                units) of a stored position against the one
                                written, from P's codec (16-bit fixed point:
                                sqrt(3) * voxel / 65535); 0 otherwise */
+    double shape_param;     /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
 } vp_particles;
 
 VP_API vp_result vp_particles_create(vp_context *ctx, size_t capacity, vp_particles **out);
@@ -400,6 +422,7 @@ typedef struct vp_lattice_params {
     int rotate;          /* also search orientations */
     int rotations;       /* orientations to try with rotate; 0 = automatic */
     uint64_t seed;
+    double shape_param;  /* VP_SHAPE_SUPERBALL: the exponent p */
 } vp_lattice_params;
 VP_API void vp_lattice_params_init(vp_lattice_params *p);
 
@@ -420,6 +443,9 @@ typedef struct vp_lattice_report {
  * for shape on lattice (VP_LATTICE_DEFAULT resolved as there), or 0 when
  * the combination is not offered. */
 VP_API double vp_lattice_fraction(vp_shape shape, vp_lattice lattice);
+/* The same for shapes with a parameter (superballs: the densest of the
+ * four lattice families of Jiao, Stillinger & Torquato 2009 at p). */
+VP_API double vp_lattice_fraction_param(vp_shape shape, double param, vp_lattice lattice);
 
 /* Fills container c. *out is owned by the caller; report may be NULL. */
 VP_API vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c,

@@ -154,14 +154,14 @@ class vp_particles(ctypes.Structure):
         ("mesh", ctypes.c_void_p), ("groups", ctypes.POINTER(ctypes.c_uint16)),
         ("group_count", ctypes.c_uint),
         ("group_names", (ctypes.c_char * VP_GROUP_NAME_MAX) * VP_MAX_GROUPS),
-        ("position_error", ctypes.c_double)]
+        ("position_error", ctypes.c_double), ("shape_param", ctypes.c_double)]
 
 
 class vp_lattice_params(ctypes.Structure):
     _fields_ = [
         ("shape", _e), ("lattice", _e), ("fit", _e), ("radius", ctypes.c_double),
         ("count", ctypes.c_size_t), ("offsets", ctypes.c_int), ("rotate", ctypes.c_int),
-        ("rotations", ctypes.c_int), ("seed", ctypes.c_uint64)]
+        ("rotations", ctypes.c_int), ("seed", ctypes.c_uint64), ("shape_param", ctypes.c_double)]
 
 
 class vp_lattice_report(ctypes.Structure):
@@ -207,7 +207,8 @@ class vp_rsa_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("shape", _e), ("mesh", ctypes.c_void_p), ("orient", _e), ("overlap", _e),
         ("passes", ctypes.POINTER(vp_rsa_pass)), ("npasses", ctypes.c_size_t),
-        ("seed", ctypes.c_uint64), ("max_cells", ctypes.c_size_t)]
+        ("seed", ctypes.c_uint64), ("max_cells", ctypes.c_size_t),
+        ("shape_param", ctypes.c_double)]
 
 
 class vp_rsa_pass_report(ctypes.Structure):

@@ -15,8 +15,8 @@ void vp_container_params_for_lattice(vp_container_params *cp, const vp_lattice_p
     cp->particle_count = lp->radius > 0 ? 0 : lp->count;
     /* space one particle of bounding radius 1 takes: its volume over the
      * lattice's packing fraction */
-    double f = vp_lattice_fraction(lp->shape, lp->lattice);
-    cp->space_per_particle = f > 0 ? vp_shape_unit_volume(lp->shape) / f : 0.0;
+    double f = vp_lattice_fraction_param(lp->shape, lp->shape_param, lp->lattice);
+    cp->space_per_particle = f > 0 ? vp_shape_unit_volume_param(lp->shape, lp->shape_param) / f : 0.0;
     /* the lattice packer reads no deeper than a particle's radius */
     cp->narrow_band = 1;
 }

@@ -6,6 +6,7 @@
 #include "api/probe.h"
 #include "core/context.h"
 #include "core/shape.h"
+#include "core/superball.h"
 #include "os/input.h"
 #include "vdb/vdb_bridge.h"
 
@@ -164,8 +165,23 @@ static int write_sphere_obj(FILE *f) {
     return 0;
 }
 
+vp_result vp_shape_write_obj_param(vp_context *ctx, vp_shape s, double param, const char *path) {
+    if (s != VP_SHAPE_SUPERBALL) return vp_shape_write_obj(ctx, s, path);
+    if (!(param >= VP_SUPERBALL_P_MIN && param <= VP_SUPERBALL_P_MAX))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "superball: the exponent must be in [%g, %g], not %g", VP_SUPERBALL_P_MIN,
+                       VP_SUPERBALL_P_MAX, param);
+    const vp_mesh_shape *m = vp_superball_mesh(param, NULL);
+    if (!m) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "superball: out of memory");
+    return vp_mesh_shape_write_obj(ctx, m, path);
+}
+
 vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path) {
-    if (!vp_shape_name(s)) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "unknown shape");
+    if (!vp_shape_name(s) || s == VP_SHAPE_MESH || s == VP_SHAPE_SUPERBALL)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       s == VP_SHAPE_SUPERBALL ? "a superball needs its exponent "
+                                                 "(vp_shape_write_obj_param)"
+                                               : "unknown shape");
     vp_atomic a;
     vp_result r = vp_atomic_begin(ctx, path, &a);
     if (r != VP_OK) return r;

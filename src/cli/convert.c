@@ -140,9 +140,14 @@ int vp_cli_convert(int argc, char **argv) {
     if (!in || !out || !*in || !*out)
         return vp_cli_die(2, "convert: give an input and an output file (see vdbpack convert --help)");
     vp_shape shape = VP_SHAPE_SPHERE;
-    if (shape_name && vp_shape_parse(shape_name, &shape) != 0)
+    double shape_param = 0.0;
+    int sr = shape_name ? vp_shape_parse_param(shape_name, &shape, &shape_param) : 0;
+    if (sr == -2)
+        return vp_cli_die(2, "convert: --shape '%s': a superball's exponent P (superball:P) must "
+                             "be a number in [0.5, 1000]", shape_name);
+    if (sr != 0 || shape == VP_SHAPE_MESH)
         return vp_cli_die(2, "convert: unknown --shape '%s' (sphere, tetrahedron, cube, octahedron, "
-                             "dodecahedron, icosahedron)", shape_name);
+                             "dodecahedron, icosahedron, superball:P)", shape_name);
     vp_format in_fmt = vp_format_from_path(in);
     if (in_fmt == VP_FORMAT_UNKNOWN || in_fmt == VP_FORMAT_OBJ)
         return vp_cli_die(2, "convert: cannot read '%s': the input must be .vdb, .ply or .csv", in);
@@ -191,6 +196,7 @@ int vp_cli_convert(int argc, char **argv) {
     }
     if (shape_name) {
         p->shape = shape;
+        p->shape_param = shape_param;
         if (shape != VP_SHAPE_SPHERE && !p->has_orient) {
             p->has_orient = 1; /* every particle in the canonical orientation */
             p->uniform_orient[0] = p->uniform_orient[1] = p->uniform_orient[2] = 0.0f;
@@ -199,10 +205,12 @@ int vp_cli_convert(int argc, char **argv) {
     }
     const char *base = strrchr(in, '/');
     base = base ? base + 1 : in;
+    char shape_text[64];
+    vp_shape_format(p->shape, p->shape_param, shape_text, sizeof shape_text);
     vp_meta meta[4] = {
         {"creator", VP_META_STRING, "vdbpack " VP_VERSION_STRING, 0, 0},
         {"converted_from", VP_META_STRING, base, 0, 0},
-        {"shape", VP_META_STRING, vp_shape_name(p->shape), 0, 0},
+        {"shape", VP_META_STRING, shape_text, 0, 0},
         {"particle_count", VP_META_INT, NULL, (int64_t)p->count, 0},
     };
     vp_write_params wp;

@@ -20,6 +20,8 @@ typedef struct pack_opts {
     int out_format;         /* vp_format of the output */
     const char *method;
     vp_shape shape;
+    double shape_param;     /* superball: the exponent */
+    char shape_text[64];    /* the shape as files record it ("superball:2") */
     const char *shape_file; /* --shape FILE: a mesh (shape == VP_SHAPE_MESH) */
     const vp_mesh_shape *mesh; /* loaded from shape_file before packing */
     int orient;             /* -1 unset, else vp_orient_mode */
@@ -262,12 +264,17 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             o->method = v;
         } else if (!strcmp(a, "--shape")) {
             VALUE();
-            if (vp_shape_parse(v, &o->shape) != 0) {
+            int sr = vp_shape_parse_param(v, &o->shape, &o->shape_param);
+            if (sr == -2)
+                return vp_cli_die(2, "pack: --shape '%s': a superball's exponent P "
+                                     "(superball:P) must be a number in [0.5, 1000] (convex "
+                                     "superballs; concave ones, P < 0.5, are not offered)", v);
+            if (sr != 0) {
                 /* not a built-in name: a mesh file, when it looks like one */
                 if (!strchr(v, '.') && !strchr(v, '/'))
                     return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, tetrahedron, cube, "
-                                         "octahedron, dodecahedron, icosahedron, or a closed "
-                                         "mesh file such as shape.obj)", v);
+                                         "octahedron, dodecahedron, icosahedron, superball:P, "
+                                         "or a closed mesh file such as shape.obj)", v);
                 o->shape = VP_SHAPE_MESH;
                 o->shape_file = v;
             }
@@ -498,8 +505,9 @@ static const char *stop_name(vp_rsa_stop s) {
  * lattice's, which fills the container's volume with count particles); the
  * radius it ends with is about this or smaller. */
 static double lattice_count_radius(const pack_opts *o, const vp_container_info *ci) {
-    double f = vp_lattice_fraction(o->shape, o->lattice);
-    return cbrt(ci->volume * f / ((double)o->count * vp_shape_unit_volume(o->shape)));
+    double f = vp_lattice_fraction_param(o->shape, o->shape_param, o->lattice);
+    return cbrt(ci->volume * f /
+                ((double)o->count * vp_shape_unit_volume_param(o->shape, o->shape_param)));
 }
 
 /* The smallest radius the method will produce, as far as the options tell
@@ -549,6 +557,7 @@ static int vdb_radius_check(const pack_opts *o, const vp_container_info *ci, dou
 static void lattice_params(const pack_opts *o, vp_lattice_params *lp) {
     vp_lattice_params_init(lp);
     lp->shape = o->shape;
+    lp->shape_param = o->shape_param;
     lp->lattice = o->lattice;
     lp->fit = o->fit;
     lp->radius = o->radius;
@@ -563,6 +572,7 @@ static void rsa_params(const pack_opts *o, vp_rsa_params *rp) {
     vp_rsa_params_init(rp);
     rp->fit = o->fit;
     rp->shape = o->shape;
+    rp->shape_param = o->shape_param;
     rp->mesh = o->mesh;
     rp->orient = (vp_orient_mode)o->orient;
     rp->overlap = (vp_overlap_mode)o->overlap;
@@ -710,7 +720,7 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
     }
     if (o->has_iso) printf(",\"iso\":%.17g", o->iso);
     printf(",\"method\":\"%s\",\"shape\":\"%s\",\"fit\":\"%s\"", o->method,
-           vp_shape_name(o->shape), o->fit == VP_FIT_INSIDE ? "inside" : "center");
+           o->shape_text, o->fit == VP_FIT_INSIDE ? "inside" : "center");
     if (o->mesh) {
         printf(",\"shape_file\":");
         vp_cli_json_string(stdout, vp_mesh_shape_name(o->mesh));
@@ -876,6 +886,7 @@ int vp_cli_pack_parse_only(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
     if (rc) return rc;
+    vp_shape_format(o.shape, o.shape_param, o.shape_text, sizeof o.shape_text);
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
     vp_container *c = NULL;
@@ -892,6 +903,7 @@ int vp_cli_pack(int argc, char **argv) {
     pack_opts o;
     int rc = parse_pack(argc, argv, &o);
     if (rc) return rc;
+    vp_shape_format(o.shape, o.shape_param, o.shape_text, sizeof o.shape_text);
     double t0 = now();
     vp_context *ctx = NULL;
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
@@ -988,7 +1000,8 @@ int vp_cli_pack(int argc, char **argv) {
     }
     if (o.shape_out) {
         if ((o.mesh ? vp_mesh_shape_write_obj(ctx, o.mesh, o.shape_out)
-                    : vp_shape_write_obj(ctx, o.shape, o.shape_out)) != VP_OK) {
+                    : vp_shape_write_obj_param(ctx, o.shape, o.shape_param, o.shape_out)) !=
+            VP_OK) {
             status = lib_error(ctx);
             goto done;
         }
@@ -1005,7 +1018,7 @@ int vp_cli_pack(int argc, char **argv) {
         {"command_line", VP_META_STRING, cmdline, 0, 0},
         {"seed", VP_META_INT, NULL, (int64_t)o.seed, 0},
         {"method", VP_META_STRING, o.method, 0, 0},
-        {"shape", VP_META_STRING, vp_shape_name(o.shape), 0, 0},
+        {"shape", VP_META_STRING, o.shape_text, 0, 0},
         {"fit", VP_META_STRING, o.fit == VP_FIT_INSIDE ? "inside" : "center", 0, 0},
         {"container", VP_META_STRING, cname, 0, 0},
         {"particle_count", VP_META_INT, NULL, (int64_t)p->count, 0},

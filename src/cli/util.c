@@ -87,6 +87,7 @@ const char *vp_cli_shape_plural(int shape) {
     case VP_SHAPE_DODECAHEDRON: return "dodecahedra";
     case VP_SHAPE_ICOSAHEDRON: return "icosahedra";
     case VP_SHAPE_MESH: return "mesh shapes";
+    case VP_SHAPE_SUPERBALL: return "superballs";
     default: return "particles";
     }
 }

@@ -10,6 +10,7 @@
 #include "core/sgrid.h"
 #include "core/mesh_shape.h"
 #include "core/shape.h"
+#include "core/superball.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -28,6 +29,7 @@ typedef struct chk {
     const vp_particles *p;
     const vp_polyhedron *poly;
     const vp_mesh_shape *mesh;
+    double sb;          /* superball exponent, or 0 */
     const vp_check_params *prm;
     double *r;          /* radii (double) */
     double slack;       /* 2 x position error (world) */
@@ -49,7 +51,27 @@ static int pair_visit(void *user, uint32_t j) {
     double reach = e * (1.0 + q->prm->contact_tolerance) + q->slack;
     if (d2 >= reach * reach) return 0;
     double gap, scale;
-    if (q->mesh) {
+    if (q->sb > 0) {
+        /* GJK on the support functions; the depth of an overlap from the
+         * largest common shrink g of both about their centres that parts
+         * them: d (1 - g) / g, which is r_i + r_j - d for spheres */
+        double qa[4], qb[4], d = sqrt(d2), g = 1.0 + q->prm->contact_tolerance;
+        orient_of(q->p, q->i, qa);
+        orient_of(q->p, j, qb);
+        scale = ri < rj ? ri : rj;
+        if (vp_superball_overlap(q->sb, ri, qa, xi, rj, qb, xj)) {
+            double lo = 0.0, hi = 1.0;
+            for (int it = 0; it < 60; it++) {
+                double m = 0.5 * (lo + hi);
+                if (vp_superball_overlap(q->sb, ri * m, qa, xi, rj * m, qb, xj)) hi = m; else lo = m;
+            }
+            gap = lo > 0 ? -d * (1.0 - lo) / lo : -e;
+        } else if (vp_superball_overlap(q->sb, ri * g, qa, xi, rj * g, qb, xj)) {
+            gap = 0.0;
+        } else {
+            gap = HUGE_VAL;
+        }
+    } else if (q->mesh) {
         /* no distance between meshes: the penetration depth when they
          * overlap; a contact when copies larger by the contact tolerance
          * would overlap */
@@ -108,6 +130,10 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     if (p->shape == VP_SHAPE_MESH && !mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "check: the particles are of a mesh shape: the mesh is needed");
+    const double sb = p->shape == VP_SHAPE_SUPERBALL ? p->shape_param : 0.0;
+    if (p->shape == VP_SHAPE_SUPERBALL && !(sb >= VP_SUPERBALL_P_MIN && sb <= VP_SUPERBALL_P_MAX))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "check: a superball's exponent must be in [0.5, 1000], not %g", sb);
     size_t n = p->count;
     if (p->count >= UINT32_MAX - 1)
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: more than 2^32 particles");
@@ -156,7 +182,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
                 return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory for the grid");
             }
         }
-        chk q = {p, poly, mesh, params, r, 2.0 * e, 0, &rep};
+        chk q = {p, poly, mesh, sb, params, r, 2.0 * e, 0, &rep};
         for (size_t i = 0; i < n; i++) {
             q.i = i;
             double reach = r[i] * (1.0 + params->contact_tolerance) + 2.0 * e +
@@ -181,6 +207,10 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         double v;
         if (params->fit == VP_FIT_CENTER) {
             v = vp_container_distance(c, x);
+        } else if (sb > 0) {
+            double q[4], d = vp_container_distance(c, x);
+            orient_of(p, i, q);
+            v = d + r[i] <= 0 ? d + r[i] : vp_superball_wall_distance(c, sb, r[i], q, x, HUGE_VAL);
         } else if (mesh) {
             /* the packer's own shortcut: a bounding sphere inside passes */
             double q[4], d = vp_container_distance(c, x);

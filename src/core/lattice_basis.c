@@ -6,6 +6,7 @@
  * contact and the packing fraction of every (shape, lattice) pair. */
 #include "core/lattice_basis.h"
 #include "core/geom.h"
+#include "core/superball.h"
 
 #include <math.h>
 #include <string.h>
@@ -154,6 +155,39 @@ int vp_lattice_basis_get(vp_shape shape, vp_lattice lattice, vp_lattice_basis *o
     }
     *out = b;
     return 0;
+}
+
+int vp_lattice_basis_get_param(vp_shape shape, double param, vp_lattice lattice,
+                               vp_lattice_basis *out) {
+    if (shape != VP_SHAPE_SUPERBALL) return vp_lattice_basis_get(shape, lattice, out);
+    if (!out || (lattice != VP_LATTICE_DEFAULT && lattice != VP_LATTICE_DENSEST)) return -1;
+    vp_superball_family f = vp_superball_best_family(param);
+    vp_lattice_basis b;
+    memset(&b, 0, sizeof b);
+    b.nsites = 1;
+    if (vp_superball_family_basis(f, param, b.a) != 0) return -1;
+    const double R = vp_superball_circumradius(param);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) b.a[i][j] /= R;
+    if (vp_det3(b.a[0], b.a[1], b.a[2]) < 0) {
+        double t[3];
+        memcpy(t, b.a[1], sizeof t);
+        memcpy(b.a[1], b.a[2], sizeof t);
+        memcpy(b.a[2], t, sizeof t);
+    }
+    b.fraction = vp_superball_unit_volume(param) / fabs(vp_det3(b.a[0], b.a[1], b.a[2]));
+    static const char *const names[] = {"superball C0 lattice", "superball C1 lattice",
+                                        "superball O0 lattice", "superball O1 lattice"};
+    b.name = names[f];
+    b.source = "Jiao, Stillinger & Torquato 2009 (Phys. Rev. E 79, 041309), parameters solved "
+               "numerically";
+    *out = b;
+    return 0;
+}
+
+double vp_lattice_fraction_param(vp_shape shape, double param, vp_lattice lattice) {
+    vp_lattice_basis lb;
+    return vp_lattice_basis_get_param(shape, param, lattice, &lb) == 0 ? lb.fraction : 0.0;
 }
 
 double vp_lattice_fraction(vp_shape shape, vp_lattice lattice) {

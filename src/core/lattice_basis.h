@@ -21,4 +21,9 @@ typedef struct vp_lattice_basis {
  * Returns 0 and fills *out, or -1 when the combination is not offered
  * (SC/BCC/FCC/HCP are for spheres only; DENSEST for spheres means FCC). */
 int vp_lattice_basis_get(vp_shape shape, vp_lattice lattice, vp_lattice_basis *out);
+/* The same for shapes with a parameter: superballs (DEFAULT or DENSEST
+ * only) on the densest lattice family of Jiao et al. 2009 at p, its
+ * fraction the superball's volume over the cell's. */
+int vp_lattice_basis_get_param(vp_shape shape, double param, vp_lattice lattice,
+                               vp_lattice_basis *out);
 #endif

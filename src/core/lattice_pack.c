@@ -17,6 +17,7 @@
 #include "core/lattice_basis.h"
 #include "core/parallel.h"
 #include "core/shape.h"
+#include "core/superball.h"
 
 #include <float.h>
 #include <math.h>
@@ -27,7 +28,8 @@
 typedef struct setup {
     const vp_container *c;
     vp_fit fit;
-    const vp_polyhedron *poly; /* NULL: sphere */
+    const vp_polyhedron *poly; /* NULL: sphere (or superball) */
+    double sb;                 /* superball exponent; 0: not a superball */
     double r;                  /* bounding-sphere radius */
     double q[4];               /* global rotation */
     double b[3][3];            /* world lattice vectors b[k] */
@@ -77,11 +79,13 @@ static int invert3(const double m[3][3], double inv[3][3]) {
 }
 
 static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis *lb,
-                        const vp_polyhedron *poly, vp_fit fit, double r, const double q[4]) {
+                        const vp_polyhedron *poly, double sb, vp_fit fit, double r,
+                        const double q[4]) {
     memset(s, 0, sizeof *s);
     s->c = c;
     s->fit = fit;
     s->poly = poly;
+    s->sb = sb;
     s->r = r;
     memcpy(s->q, q, sizeof s->q);
     double m[3][3];
@@ -97,8 +101,8 @@ static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis 
         vp_quat_rotate(q, v, s->sites[k]);
     }
     double shrink = 0.0;
-    if (poly) {
-        if (fit == VP_FIT_INSIDE) shrink = poly->inradius * r;
+    if (poly || sb > 0) {
+        if (fit == VP_FIT_INSIDE) shrink = (poly ? poly->inradius : vp_superball_inradius(sb)) * r;
     } else if (fit == VP_FIT_INSIDE) {
         shrink = r;
     }
@@ -122,7 +126,7 @@ static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis 
     if (fit == VP_FIT_CENTER) {
         s->thr_in = tol;
         s->thr_out = tol;
-    } else if (!poly) {
+    } else if (!poly && !(sb > 0)) {
         s->thr_in = -r + tol;
         s->thr_out = -r + tol;
     } else {
@@ -158,7 +162,8 @@ static int fits(const setup *s, const double x[3]) {
     if (b > 0.0 && b > s->thr_out) return 0;
     double d = dist(s, x);
     if (d <= s->thr_in) return 1;
-    if (d > s->thr_out || !s->poly || s->fit == VP_FIT_CENTER) return 0;
+    if (d > s->thr_out || (!s->poly && !(s->sb > 0)) || s->fit == VP_FIT_CENTER) return 0;
+    if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, s->r, s->q, x, 0.0) <= 0.0;
     return vp_poly_wall_distance(s->c, s->poly, s->r, s->q, x, 0.0) <= 0.0;
 }
 
@@ -434,6 +439,7 @@ typedef struct search_cfg {
     const vp_container *c;
     const vp_lattice_basis *lb;
     const vp_polyhedron *poly;
+    double sb;
     vp_fit fit;
     int offsets;   /* stage-one offsets per orientation */
     int rotations; /* orientations (1 = identity only) */
@@ -491,7 +497,7 @@ static vp_result search_once(const search_cfg *cfg, double r, placement *best,
         double q[4] = {0, 0, 0, 1};
         if (rot > 0) random_quat(&rng, q);
         setup s;
-        setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->fit, r, q);
+        setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->sb, cfg->fit, r, q);
         s.dm = cfg->dm;
         if (noff > 1) corner_offset(&s, u[1]); /* in place of the sequence's first after 0 */
         classified cl;
@@ -707,9 +713,10 @@ static double estimate_count(const vp_container *c, const vp_lattice_basis *lb, 
  * particles by volume, 3.9e8 points to classify. m scales with r: *m_unit
  * keeps m / r from the first call (0 before it). */
 static double ambiguous_count(const vp_container *c, const vp_lattice_basis *lb,
-                              const vp_polyhedron *poly, vp_fit fit, double r, double *m_unit) {
+                              const vp_polyhedron *poly, double sb, vp_fit fit, double r,
+                              double *m_unit) {
     setup s;
-    setup_build(&s, c, lb, poly, fit, r, (const double[4]){0, 0, 0, 1});
+    setup_build(&s, c, lb, poly, sb, fit, r, (const double[4]){0, 0, 0, 1});
     if (!(*m_unit > 0.0)) *m_unit = covering_bound(&s) / r;
     double m = *m_unit * r, outer = 1.0, inner = 1.0;
     for (int i = 0; i < 3; i++) {
@@ -754,12 +761,19 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
         params = &def;
     }
     vp_lattice_basis lb;
-    if (vp_lattice_basis_get(params->shape, params->lattice, &lb) != 0)
+    const int superball = params->shape == VP_SHAPE_SUPERBALL;
+    const double sb = superball ? params->shape_param : 0.0;
+    if (superball && !(sb >= VP_SUPERBALL_P_MIN && sb <= VP_SUPERBALL_P_MAX))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "lattice: a superball's exponent must be in [%g, %g], not %g",
+                       VP_SUPERBALL_P_MIN, VP_SUPERBALL_P_MAX, sb);
+    if (vp_lattice_basis_get_param(params->shape, sb, params->lattice, &lb) != 0)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "--lattice %s is for spheres; a %s packs on its densest lattice",
                        vp_lattice_name(params->lattice), vp_shape_name(params->shape));
     const vp_polyhedron *poly = vp_shape_polyhedron(params->shape);
-    double unit_vol = vp_shape_unit_volume(params->shape);
+    double unit_vol = vp_shape_unit_volume_param(params->shape, sb);
+    const double rin = poly ? poly->inradius : superball ? vp_superball_inradius(sb) : 1.0;
     if (!(c->info.volume > 0))
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "the container has no inside (volume 0)");
     double r = params->radius;
@@ -776,7 +790,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
         double e = c->info.bmax[i] - c->info.bmin[i];
         if (e < extent) extent = e;
     }
-    if (!count_mode && params->fit == VP_FIT_INSIDE && 2 * r * (poly ? poly->inradius : 1.0) > extent)
+    if (!count_mode && params->fit == VP_FIT_INSIDE && 2 * r * rin > extent)
         return vp_fail(ctx, VP_ERR_NO_FIT,
                        "radius %g is too large: no particle fits in the container (its smallest "
                        "extent is %g)", r, extent);
@@ -801,7 +815,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                        "limit of %s (--max-memory)", est, r, a, b);
     }
     double m_unit = 0.0;
-    double amb = ambiguous_count(c, &lb, poly, params->fit, r, &m_unit);
+    double amb = ambiguous_count(c, &lb, poly, sb, params->fit, r, &m_unit);
     if (count_mode && (amb > VP_COUNT_AMB_WORK + 100.0 * (double)params->count ||
                        amb * VP_AMB_BYTES > (double)limit))
         return vp_fail(ctx, VP_ERR_NO_FIT,
@@ -825,6 +839,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     cfg.c = c;
     cfg.lb = &lb;
     cfg.poly = poly;
+    cfg.sb = sb;
     cfg.fit = params->fit;
     cfg.seed = params->seed;
     cfg.threads = vp_threads_for(ctx);
@@ -928,7 +943,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                 if (nr == r) break;
                 r = nr;
                 if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
-                double na = ambiguous_count(c, &lb, poly, params->fit, r, &m_unit);
+                double na = ambiguous_count(c, &lb, poly, sb, params->fit, r, &m_unit);
                 if (na > VP_COUNT_AMB_WORK + 100.0 * target || na * VP_AMB_BYTES > (double)limit) {
                     wall_r = r;
                     wall_amb = na;
@@ -972,7 +987,7 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
                        params->count, extent, min_r, wall_r, wall_amb, params->count);
     }
     setup s;
-    setup_build(&s, c, &lb, poly, params->fit, r, best.q);
+    setup_build(&s, c, &lb, poly, sb, params->fit, r, best.q);
     s.dm = cfg.dm;
     vp_particles *p = NULL;
     double o[3];
@@ -987,7 +1002,8 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
     }
     p->uniform_radius = (float)r;
     p->shape = params->shape;
-    if (poly) {
+    p->shape_param = sb;
+    if (poly || superball) {
         p->has_orient = 1;
         for (int i = 0; i < 4; i++) p->uniform_orient[i] = (float)best.q[i];
     }

@@ -39,7 +39,7 @@ void vp_particles_destroy(vp_particles *p) {
 double vp_particles_volume(const vp_particles *p) {
     if (!p) return 0.0;
     double unit = p->shape == VP_SHAPE_MESH ? vp_mesh_shape_volume(p->mesh)
-                                            : vp_shape_unit_volume(p->shape),
+                                            : vp_shape_unit_volume_param(p->shape, p->shape_param),
            sum = 0.0;
     if (!p->radii) {
         double r = p->uniform_radius;

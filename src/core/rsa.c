@@ -33,6 +33,7 @@
 #include "core/sgrid.h"
 #include "core/mesh_shape.h"
 #include "core/shape.h"
+#include "core/superball.h"
 #include "core/size_dist_sample.h"
 
 #include <float.h>
@@ -113,6 +114,7 @@ typedef struct rsa {
     vp_sgrid g;
     const vp_polyhedron *poly; /* a platonic solid, or NULL */
     const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
+    double sb;            /* a superball's exponent, or 0 */
     int solid;            /* poly or mesh: not spheres */
     double rin;           /* insphere / bounding-sphere radius (1 for spheres):
                              two particles whose centres are closer than
@@ -287,6 +289,7 @@ typedef struct solid_query {
     int framed;      /* cubes: m holds the candidate's rotation */
     double m[3][3];
     vp_poly_posed cand;
+    vp_convex cand_sb;
     /* The neighbours that the cheap tests (spheres, the candidate's own
      * cube test) leave undecided, tested exactly after all the others
      * have had their cheap tests: a candidate that some neighbour's cheap
@@ -367,6 +370,15 @@ static int solid_exact(solid_query *w, uint32_t j) {
         vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     }
     if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, cand_quat(w), w->x, rj, qj, c, NULL);
+    if (s->sb > 0) {
+        if (!w->posed) { /* the candidate's support, posed once */
+            vp_convex_set(&w->cand_sb, VP_SHAPE_SUPERBALL, s->sb, w->r, cand_quat(w), w->x, w->x);
+            w->posed = 1;
+        }
+        vp_convex o;
+        vp_convex_set(&o, VP_SHAPE_SUPERBALL, s->sb, rj, qj, c, w->x);
+        return vp_convex_overlap(&w->cand_sb, &o);
+    }
     /* the candidate is posed once for all its neighbours; both relative
      * to its centre (the numbers of vp_poly_separation, bit for bit), and
      * the test stops at the first separating axis */
@@ -425,6 +437,7 @@ static int solid_fits_wall(const rsa *s, const double x[3], double d, const doub
     if (d <= thr_ok(s, r)) return 1;
     if (s->fit == VP_FIT_CENTER || !(d <= thr_drop(s, r))) return 0;
     if (s->mesh) return vp_mesh_shape_wall_distance(s->c, s->mesh, r, q, x, 0.0) <= 0.0;
+    if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, r, q, x, 0.0) <= 0.0;
     return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
 }
 
@@ -1644,11 +1657,16 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        VP_MAX_GROUPS);
     if (params->fit != VP_FIT_INSIDE && params->fit != VP_FIT_CENTER)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown fit");
-    if (params->shape == VP_SHAPE_MESH ? !params->mesh
-                                       : ((int)params->shape < 0 || params->shape >= VP_SHAPE_COUNT))
+    if (params->shape == VP_SHAPE_SUPERBALL
+            ? !(params->shape_param >= VP_SUPERBALL_P_MIN && params->shape_param <= VP_SUPERBALL_P_MAX)
+            : params->shape == VP_SHAPE_MESH
+                  ? !params->mesh
+                  : ((int)params->shape < 0 || params->shape >= VP_SHAPE_COUNT))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       params->shape == VP_SHAPE_MESH ? "rsa: a mesh shape needs its vp_mesh_shape"
-                                                      : "rsa: unknown shape");
+                       params->shape == VP_SHAPE_SUPERBALL
+                           ? "rsa: a superball's exponent must be in [0.5, 1000]"
+                       : params->shape == VP_SHAPE_MESH ? "rsa: a mesh shape needs its vp_mesh_shape"
+                                                        : "rsa: unknown shape");
     if (params->orient != VP_ORIENT_RANDOM && params->orient != VP_ORIENT_FIXED)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown orientation mode");
     if (params->overlap != VP_OVERLAP_EXACT && params->overlap != VP_OVERLAP_BBOX)
@@ -1660,7 +1678,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        "boxes of rotated solids would not bound them)");
     const double unit_volume = params->shape == VP_SHAPE_MESH
                                    ? vp_mesh_shape_volume(params->mesh)
-                                   : vp_shape_unit_volume(params->shape);
+                                   : vp_shape_unit_volume_param(params->shape,
+                                                                params->shape_param);
     double rmin = HUGE_VAL, rmax = 0, estimate = 0;
     double vmin = 0.0, r1 = 0.0; /* count passes' volume at their smallest sizes; last size */
     size_t nall = 0;              /* particles the count passes ask for */
@@ -1770,7 +1789,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.reach = 1.0;
     s.poly = vp_shape_polyhedron(params->shape);
     s.mesh = params->shape == VP_SHAPE_MESH ? params->mesh : NULL;
-    s.solid = s.poly || s.mesh;
+    s.sb = params->shape == VP_SHAPE_SUPERBALL ? params->shape_param : 0.0;
+    s.solid = s.poly || s.mesh || s.sb > 0;
     {
         /* the solids' exact tests and the spheres' top balls allow for it */
         double L = 0.0;
@@ -1781,7 +1801,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         s.coord_eps = 64.0 * DBL_EPSILON * L;
     }
     if (s.solid) {
-        s.rin = s.poly ? s.poly->inradius : s.mesh->inradius;
+        s.rin = s.poly   ? s.poly->inradius
+                : s.mesh ? s.mesh->inradius
+                         : vp_superball_inradius(s.sb);
         s.orient_random = params->orient == VP_ORIENT_RANDOM;
         s.bbox = params->overlap == VP_OVERLAP_BBOX;
         s.cube = params->shape == VP_SHAPE_CUBE && !s.bbox;
@@ -1796,6 +1818,10 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
             if (s.mesh) {
                 s.bb_lo[k] = s.mesh->bb_lo[k];
                 s.bb_hi[k] = s.mesh->bb_hi[k];
+            }
+            if (s.sb > 0) { /* the faces' centres, at 1 / circumradius */
+                s.bb_hi[k] = 1.0 / vp_superball_circumradius(s.sb);
+                s.bb_lo[k] = -s.bb_hi[k];
             }
         }
         if (s.bbox) {
@@ -1818,6 +1844,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     }
     s.p->shape = params->shape;
     s.p->mesh = s.mesh;
+    s.p->shape_param = s.sb;
     s.p->group_count = (unsigned)params->npasses;
     for (size_t i = 0; i < params->npasses; i++) {
         char b[VP_GROUP_NAME_MAX];

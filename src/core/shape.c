@@ -4,6 +4,10 @@
  * test. See shape.h and docs/lattices.md for the canonical orientations. */
 #include "core/shape.h"
 #include "core/geom.h"
+#include "core/mesh_shape.h"
+#include "core/superball.h"
+
+#include <stdio.h>
 
 #include <math.h>
 #include <pthread.h>
@@ -31,6 +35,7 @@ static int vp_streq_nocase(const char *a, const char *b) {
 
 const char *vp_shape_name(vp_shape s) {
     if (s == VP_SHAPE_MESH) return "mesh";
+    if (s == VP_SHAPE_SUPERBALL) return "superball";
     if ((int)s < 0 || (int)s >= VP_SHAPE_COUNT) return NULL;
     return vp_shape_names[s];
 }
@@ -40,6 +45,38 @@ int vp_shape_parse(const char *name, vp_shape *out) {
     for (int i = 0; i < VP_SHAPE_COUNT; ++i)
         if (vp_streq_nocase(name, vp_shape_names[i])) { *out = (vp_shape)i; return 0; }
     return -1;
+}
+
+int vp_shape_parse_param(const char *text, vp_shape *out, double *param) {
+    if (!text || !out) return -1;
+    double p = 0.0;
+    int r = vp_superball_parse(text, &p);
+    if (r == -2) return -2;
+    if (r == 0) {
+        *out = VP_SHAPE_SUPERBALL;
+        if (param) *param = p;
+        return 0;
+    }
+    if (vp_shape_parse(text, out) != 0) return -1;
+    if (param) *param = 0.0;
+    return 0;
+}
+
+const char *vp_shape_format(vp_shape s, double param, char *buf, size_t n) {
+    if (!buf || n == 0) return buf;
+    if (s == VP_SHAPE_SUPERBALL)
+        vp_superball_format(param, buf, n);
+    else
+        snprintf(buf, n, "%s", vp_shape_name(s) ? vp_shape_name(s) : "");
+    return buf;
+}
+
+double vp_shape_unit_volume_param(vp_shape s, double param) {
+    if (s == VP_SHAPE_SUPERBALL)
+        return param >= VP_SUPERBALL_P_MIN && param <= VP_SUPERBALL_P_MAX
+                   ? vp_superball_unit_volume(param)
+                   : 0.0;
+    return vp_shape_unit_volume(s);
 }
 
 const char *vp_lattice_name(vp_lattice l) {

@@ -3,6 +3,7 @@
  * vp_import dispatch, and the helpers the writers and readers share. */
 #include "io/io_internal.h"
 #include "core/context.h"
+#include "core/superball.h"
 #include "os/input.h"
 
 #include <errno.h>
@@ -111,9 +112,12 @@ double vp_export_estimate_bytes(const vp_particles *p, vp_format format,
     case VP_FORMAT_VDB: return n * (o ? 40 : 24);
     case VP_FORMAT_OBJ: {
         int v = 0, f = 0;
-        if (p->shape == VP_SHAPE_MESH && p->mesh) {
-            v = (int)vp_mesh_shape_triangles(p->mesh) / 2 + 2; /* closed genus-0 estimate */
-            f = (int)vp_mesh_shape_triangles(p->mesh);
+        const vp_mesh_shape *um = p->shape == VP_SHAPE_SUPERBALL
+                                      ? vp_superball_mesh(p->shape_param, NULL)
+                                      : p->mesh;
+        if ((p->shape == VP_SHAPE_MESH || p->shape == VP_SHAPE_SUPERBALL) && um) {
+            v = (int)vp_mesh_shape_triangles(um) / 2 + 2; /* closed genus-0 estimate */
+            f = (int)vp_mesh_shape_triangles(um);
         } else if (vp_export_obj_counts(p->shape, params ? params->sphere_subdivisions : 0, &v,
                                         &f) != 0) {
             return 0;

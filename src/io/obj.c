@@ -9,6 +9,7 @@
 #include "core/geom.h"
 #include "core/mesh_shape.h"
 #include "core/shape.h"
+#include "core/superball.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -145,7 +146,13 @@ vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *
     if (p->shape == VP_SHAPE_MESH && !p->mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "%s: the particles are of a mesh shape and the mesh is not loaded", path);
-    if (build_unit(&m, p->shape, p->mesh, n) != 0) {
+    const vp_mesh_shape *um = p->shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(p->shape_param, NULL)
+                                                             : p->mesh;
+    if (p->shape == VP_SHAPE_SUPERBALL && !um)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "%s: a superball's exponent must be in [0.5, 1000], not %g", path,
+                       p->shape_param);
+    if (build_unit(&m, p->shape == VP_SHAPE_SUPERBALL ? VP_SHAPE_MESH : p->shape, um, n) != 0) {
         unit_free(&m);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for the unit shape", path);
     }

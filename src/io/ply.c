@@ -41,7 +41,9 @@ vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *
     if ((r = vpio_open(ctx, path, &o)) != VP_OK) return r;
     FILE *f = o.f;
     fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment vdbpack %s\n", VP_VERSION_STRING);
-    fprintf(f, "comment shape %s\n", vp_shape_name(p->shape) ? vp_shape_name(p->shape) : "sphere");
+    char shape_text[64];
+    vp_shape_format(p->shape, p->shape_param, shape_text, sizeof shape_text);
+    fprintf(f, "comment shape %s\n", shape_text[0] ? shape_text : "sphere");
     for (unsigned g = 0; g < p->group_count; g++)
         fprintf(f, "comment group %u %.*s\n", g, VP_GROUP_NAME_MAX, p->group_names[g]);
     for (size_t i = 0; i < params->vdb.meta_count; i++) {
@@ -120,6 +122,7 @@ typedef struct ply_header {
     ptype type[P_COUNT];
     int shape_set;
     vp_shape shape;
+    double shape_param;
     int named[VP_MAX_GROUPS];
     char names[VP_MAX_GROUPS][VP_GROUP_NAME_MAX];
 } ply_header;
@@ -174,7 +177,7 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
             have_format = 1;
         } else if (!strcmp(w0, "comment") || !strcmp(w0, "obj_info")) {
             if (!strcmp(w0, "comment") && !strcmp(w1, "shape") && nw >= 3) {
-                if (vp_shape_parse(w2, &h->shape) != 0)
+                if (vp_shape_parse_param(w2, &h->shape, &h->shape_param) != 0)
                     return BAD("%s: unknown shape '%s' in the PLY header", path, w2);
                 h->shape_set = 1;
             } else if (!strcmp(w0, "comment") && !strcmp(w1, "group") && nw >= 3) {
@@ -272,6 +275,7 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
         goto done;
     }
     p->shape = h.shape_set ? h.shape : VP_SHAPE_SPHERE;
+    p->shape_param = h.shape_set ? h.shape_param : 0.0;
     *needs_shape = with_q && !h.shape_set;
     int maxg = -1;
     for (size_t k0 = 0; k0 < h.n; k0 += 4096) {

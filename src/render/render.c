@@ -18,6 +18,7 @@
 #include "core/parallel.h"
 #include "core/mesh_shape.h"
 #include "core/shape.h"
+#include "core/superball.h"
 
 void vp_render_params_init(vp_render_params *p) {
     if (!p) return;
@@ -630,7 +631,13 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
     memset(&S, 0, sizeof S);
     S.p = p;
     S.poly = p->has_orient || p->shape != VP_SHAPE_SPHERE ? vp_shape_polyhedron(p->shape) : NULL;
-    S.mesh = p->shape == VP_SHAPE_MESH ? p->mesh : NULL;
+    S.mesh = p->shape == VP_SHAPE_MESH        ? p->mesh
+             : p->shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(p->shape_param, NULL)
+                                              : NULL;
+    if (p->shape == VP_SHAPE_SUPERBALL && !S.mesh)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "render: a superball's exponent must be in [0.5, 1000], not %g",
+                       p->shape_param);
     S.inradius = S.poly ? S.poly->inradius : 1.0;
     S.cut_axis = rp.cut_axis;
     S.cut_value = rp.cut_value;

@@ -35,11 +35,22 @@ struct Owner {
     ~Owner() { free_particles(p); }
 };
 
-bool shape_from(const openvdb::MetaMap &m, vp_shape &out)
+// "superball:P" sets param to P (the exponent; checked by the readers'
+// users, as the library's shape functions refuse one out of range).
+bool shape_from(const openvdb::MetaMap &m, vp_shape &out, double &param)
 {
     openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shape");
     if (!s) return false;
     if (s->value() == "mesh") { out = VP_SHAPE_MESH; return true; }
+    if (s->value().compare(0, 10, "superball:") == 0) {
+        char *end = nullptr;
+        const char *v = s->value().c_str() + 10;
+        double p = std::strtod(v, &end);
+        if (end == v || *end != '\0' || !std::isfinite(p)) return false;
+        out = VP_SHAPE_SUPERBALL;
+        param = p;
+        return true;
+    }
     for (int i = 0; i < VP_SHAPE_COUNT; ++i)
         if (s->value() == kShapeNames[i]) { out = vp_shape(i); return true; }
     return false;
@@ -95,7 +106,11 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
         P.group_count = 1;
         snprintf(P.group_names[0], VP_GROUP_NAME_MAX, "%s", "all");
         vp_shape sh;
-        if (shape_from(*grid, sh) || (fmeta && shape_from(*fmeta, sh))) P.shape = sh;
+        double shp = 0.0;
+        if (shape_from(*grid, sh, shp) || (fmeta && shape_from(*fmeta, sh, shp))) {
+            P.shape = sh;
+            P.shape_param = sh == VP_SHAPE_SUPERBALL ? shp : 0.0;
+        }
 
         auto leaf0 = tree.cbeginLeaf();
         const size_t count = leaf0 ? size_t(vp::pointCount(tree)) : 0;

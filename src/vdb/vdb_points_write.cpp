@@ -304,6 +304,15 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
             fm.insertMeta("shape", openvdb::StringMetadata(kShapeNames[p->shape]));
             grid->insertMeta("shape", openvdb::StringMetadata(kShapeNames[p->shape]));
         }
+        if (!has_key(meta, meta_count, "shape") && p->shape == VP_SHAPE_SUPERBALL) {
+            char sb[64];
+            for (int prec = 15; prec <= 17; prec++) { // the fewest digits that read back
+                snprintf(sb, sizeof sb, "superball:%.*g", prec, p->shape_param);
+                if (std::strtod(sb + 10, nullptr) == p->shape_param) break;
+            }
+            fm.insertMeta("shape", openvdb::StringMetadata(sb));
+            grid->insertMeta("shape", openvdb::StringMetadata(sb));
+        }
 
         // How P is stored (the codec alone does not say that 16-bit fixed
         // point was asked for and refused)
