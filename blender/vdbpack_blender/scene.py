@@ -126,8 +126,12 @@ def instancer(name, shape_obj):
     sphere of radius 1 when None), scaled by pscale and turned by
     rotation."""
     ng = bpy.data.node_groups.new(name, 'GeometryNodeTree')
-    ng.inputs.new('NodeSocketGeometry', "Geometry")
-    ng.outputs.new('NodeSocketGeometry', "Geometry")
+    if hasattr(ng, "interface"):  # Blender 4.0 and later (untested here)
+        ng.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
+        ng.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+    else:
+        ng.inputs.new('NodeSocketGeometry', "Geometry")
+        ng.outputs.new('NodeSocketGeometry', "Geometry")
     nodes, links = ng.nodes, ng.links
     gin = nodes.new('NodeGroupInput')
     gin.location = (-600, 0)

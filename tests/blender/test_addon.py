@@ -718,9 +718,11 @@ def section_images():
     sc = bpy.context.scene
     sc.render.engine = 'BLENDER_WORKBENCH'
     sc.display.shading.light = 'STUDIO'
-    sc.render.resolution_x, sc.render.resolution_y = 640, 400
+    sc.render.resolution_x, sc.render.resolution_y = 480, 300
     sc.render.resolution_percentage = 100
     sc.render.film_transparent = False
+    sc.render.image_settings.color_mode = 'RGB'
+    sc.render.image_settings.compression = 100
     sc.world = bpy.data.worlds.new("grey")
     sc.world.color = (0.18, 0.18, 0.2)
     res_objs = {o["vdbpack_source"]: o for o in bpy.data.objects if o.get("vdbpack_source")}
@@ -787,9 +789,109 @@ def section_images():
             shutil.copy(path, os.path.join(SRC, "docs", "img", name + ".png"))
 
 
+class FakeLayout:
+    """Stands in for Blender's UILayout (there is none headless): records
+    the properties and operators drawn and checks each property exists."""
+    def __init__(self, log):
+        self.log = log
+
+    def __getattr__(self, name):  # use_property_split, active, alert, scale_y, ...
+        return None
+
+    def __setattr__(self, name, value):
+        object.__setattr__(self, name, value)
+
+    def _sub(self, *a, **k):
+        return FakeLayout(self.log)
+    row = column = box = _sub
+
+    def prop(self, data, name, **k):
+        check(hasattr(data, name) or name in data.bl_rna.properties,
+              "the panel draws a property %r that does not exist" % name)
+        self.log.append(("prop", name))
+
+    def label(self, text="", **k):
+        self.log.append(("label", text))
+
+    def operator(self, idname, **k):
+        mod, _, op = idname.partition(".")
+        check(hasattr(getattr(bpy.ops, mod), op), "the panel's operator %s exists" % idname)
+        self.log.append(("operator", idname))
+        return FakeLayout(self.log)
+
+    def template_list(self, listtype, _id, data, prop, active_data, active_prop, **k):
+        check(hasattr(bpy.types, listtype), "UIList %s registered" % listtype)
+        ul = getattr(bpy.types, listtype)
+        for i, item in enumerate(getattr(data, prop)):
+            ul.draw_item(None, bpy.context, FakeLayout(self.log), data, item, 0, active_data,
+                         active_prop, i)
+        self.log.append(("list", prop))
+
+    def separator(self, **k):
+        pass
+
+
+def section_panel():
+    """The sidebar panel draws, for every method and shape, the settings
+    that method takes (through a stand-in layout: headless Blender has no
+    UI to draw into), and the report of the last run."""
+    s = fresh()
+    panel = bpy.types.VDBPACK_PT_panel
+    check(panel.bl_category == "vdbpack" and panel.bl_region_type == 'UI'
+          and panel.bl_space_type == 'VIEW_3D', "the panel is not in the sidebar's vdbpack tab")
+    want = {"lattice": {"lattice", "size_by", "radius"}, "rsa": {"orient"},
+            "relax": {"radius", "distribution", "count", "use_target_fraction"}}
+    common = {"method", "shape", "fit", "seed", "voxel_size", "threads"}
+    set_passes(s, [dict(count=10, radius=0.1, name="a"), dict(maximal=True, radius=0.05)])
+    for method in [m for m in ("lattice", "rsa", "relax", "jam") if m in vdbpack.METHODS]:
+        for shape in ("sphere", "cube", "OBJECT"):
+            s.method, s.shape = method, shape
+            log = []
+            fake = type("P", (), {})()
+            fake.layout = FakeLayout(log)
+            panel.draw(fake, bpy.context)
+            props = {n for k, n in log if k == "prop"}
+            need = common | want.get(method, set()) | ({"shape_object"} if shape == "OBJECT"
+                                                       else set())
+            if method == "rsa" and shape == "sphere":
+                need = need - {"orient"}
+            check(need <= props, "%s/%s: the panel lacks %s" % (method, shape, need - props))
+            if method == "rsa":
+                check(("list", "passes") in log, "rsa: no pass list")
+                check(any(k == "label" and n == "pass2" for k, n in log),
+                      "rsa: the unnamed second pass is not shown as pass2")
+            check(("operator", "vdbpack.fill") in log, "%s: no Fill button" % method)
+    s.report, s.report_ok = "12 particles, fraction 0.5000, 0.10 s", True
+    log = []
+    fake = type("P", (), {})()
+    fake.layout = FakeLayout(log)
+    panel.draw(fake, bpy.context)
+    check(("label", "fraction 0.5000") in log, "the report is not shown: %s" % log[-4:])
+    # the scripting example of docs/blender.md runs as written, on a peanut
+    s = fresh()
+    bpy.ops.wm.obj_import(filepath=os.path.join(SRC, "vdb_samples", "peanut.obj"),
+                          forward_axis='Y', up_axis='Z')
+    peanut = bpy.context.selected_objects[0]
+    peanut.name = "Peanut"
+    activate(peanut)
+    doc = open(os.path.join(SRC, "docs", "blender.md")).read()
+    blocks = doc.split("```python\n")[1:]
+    check(len(blocks) == 1, "docs/blender.md has %d python blocks (expected 1)" % len(blocks))
+    scope = {}
+    exec(blocks[0].split("```")[0], scope)
+    check(scope["obj"]["vdbpack_source"] == "Peanut" and len(scope["obj"].data.vertices) > 50,
+          "the docs' example made no packing of Peanut")
+    check(s.report.startswith("%d particles" % len(scope["obj"].data.vertices)),
+          "the docs' example's report: %r" % s.report)
+    print("docs/blender.md example: %s" % s.report)
+    print("panel: drawn for %d methods x 3 shapes" % len([m for m in ("lattice", "rsa", "relax",
+                                                                      "jam")
+                                                          if m in vdbpack.METHODS]))
+
+
 SECTIONS = {"fill": section_fill, "instances": section_instances, "rerun": section_rerun,
             "cancel": section_cancel, "errors": section_errors, "io": section_io,
-            "images": section_images}
+            "images": section_images, "panel": section_panel}
 
 
 def main():
