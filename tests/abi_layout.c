@@ -134,6 +134,21 @@ static void structs(void) {
     F(vp_relax_report, particle_volume); F(vp_relax_report, seconds);
     printf("}");
 
+    S(vp_jam_params);
+    F(vp_jam_params, fit); F(vp_jam_params, radius); F(vp_jam_params, count);
+    F(vp_jam_params, target_fraction); F(vp_jam_params, tolerance);
+    F(vp_jam_params, contact_gap); F(vp_jam_params, seed);
+    printf("}");
+
+    S(vp_jam_report);
+    F(vp_jam_report, count); F(vp_jam_report, fraction); F(vp_jam_report, core_fraction);
+    F(vp_jam_report, core_count); F(vp_jam_report, core_volume);
+    F(vp_jam_report, mean_contacts); F(vp_jam_report, rattler_fraction);
+    F(vp_jam_report, max_overlap); F(vp_jam_report, radius_scale);
+    F(vp_jam_report, particle_volume); F(vp_jam_report, minimizations);
+    F(vp_jam_report, iterations); F(vp_jam_report, list_builds); F(vp_jam_report, seconds);
+    printf("}");
+
     S(vp_check_params);
     F(vp_check_params, fit); F(vp_check_params, overlap_tolerance);
     F(vp_check_params, contact_tolerance); F(vp_check_params, wall_tolerance);

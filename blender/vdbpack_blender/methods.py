@@ -66,9 +66,15 @@ def _relax(s):
 
 
 def _jam(s):
-    kw = {"radius": _radius(s), "count": int(s["count"])}
+    """The number of spheres from Count, or with Target Fraction ticked from
+    the fraction of the container (jam takes one or the other, not both);
+    the radius (or distribution) sets the radii's shape and, with a target
+    fraction, their size for the count; the jamming point scales them."""
+    kw = {"radius": _radius(s)}
     if s["use_target_fraction"]:
         kw["target_fraction"] = decimal(s["target_fraction"])
+    else:
+        kw["count"] = int(s["count"])
     return kw
 
 

@@ -63,7 +63,10 @@ class VDBPACK_PT_panel(bpy.types.Panel):
             col.active = not s.distribution.strip()
             col.prop(s, "radius")
             layout.prop(s, "distribution")
-            layout.prop(s, "count")
+            row = layout.row()
+            # jam: Count or Target Fraction, not both (methods._jam)
+            row.active = not (s.method == "jam" and s.use_target_fraction)
+            row.prop(s, "count")
         if "target_fraction" in m.shows:
             row = layout.row(heading="Target Fraction")
             row.prop(s, "use_target_fraction", text="")

@@ -25,7 +25,7 @@ from ._pack import pack
 __version__ = _VERSION
 
 SHAPES = ("sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron")
-METHODS = ("lattice", "rsa", "relax")
+METHODS = ("lattice", "rsa", "relax", "jam")
 
 
 def version():

@@ -238,6 +238,24 @@ class vp_relax_report(ctypes.Structure):
         ("particle_volume", ctypes.c_double), ("seconds", ctypes.c_double)]
 
 
+class vp_jam_params(ctypes.Structure):
+    _fields_ = [
+        ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
+        ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
+        ("contact_gap", ctypes.c_double), ("seed", ctypes.c_uint64)]
+
+
+class vp_jam_report(ctypes.Structure):
+    _fields_ = [
+        ("count", ctypes.c_size_t), ("fraction", ctypes.c_double),
+        ("core_fraction", ctypes.c_double), ("core_count", ctypes.c_size_t),
+        ("core_volume", ctypes.c_double), ("mean_contacts", ctypes.c_double),
+        ("rattler_fraction", ctypes.c_double), ("max_overlap", ctypes.c_double),
+        ("radius_scale", ctypes.c_double), ("particle_volume", ctypes.c_double),
+        ("minimizations", ctypes.c_int), ("iterations", ctypes.c_long),
+        ("list_builds", ctypes.c_int), ("seconds", ctypes.c_double)]
+
+
 class vp_check_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("overlap_tolerance", ctypes.c_double),
@@ -279,8 +297,8 @@ class vp_export_params(ctypes.Structure):
 STRUCTS = (vp_container_ops, vp_container_info, vp_container_params, vp_particles,
            vp_lattice_params, vp_lattice_report, vp_meta, vp_write_report, vp_write_params,
            vp_size_dist, vp_rsa_pass, vp_rsa_params, vp_rsa_pass_report, vp_rsa_report,
-           vp_relax_params, vp_relax_report, vp_check_params, vp_check_report, vp_render_params,
-           vp_image, vp_export_params)
+           vp_relax_params, vp_relax_report, vp_jam_params, vp_jam_report, vp_check_params,
+           vp_check_report, vp_render_params, vp_image, vp_export_params)
 
 # ---------------------------------------------------------------------------
 # Prototypes
@@ -353,6 +371,7 @@ for _name, _r, _a in [
         ("vp_size_dist_parse", _res, (_vp, _s, _P(vp_size_dist))),
         ("vp_size_dist_min", _d, (_P(vp_size_dist),)),
         ("vp_size_dist_max", _d, (_P(vp_size_dist),)),
+        ("vp_size_dist_mean_cube", _d, (_P(vp_size_dist),)),
         ("vp_size_dist_format", None, (_P(vp_size_dist), _s, _z)),
         ("vp_rsa_pass_init", None, (_P(vp_rsa_pass),)),
         ("vp_rsa_params_init", None, (_P(vp_rsa_params),)),
@@ -363,6 +382,10 @@ for _name, _r, _a in [
         ("vp_pack_relax", _res,
          (_vp, _vp, _P(vp_relax_params), _P(_P(vp_particles)), _P(vp_relax_report))),
         ("vp_container_params_for_relax", None, (_P(vp_container_params), _P(vp_relax_params))),
+        ("vp_jam_params_init", None, (_P(vp_jam_params),)),
+        ("vp_pack_jam", _res,
+         (_vp, _vp, _P(vp_jam_params), _P(_P(vp_particles)), _P(vp_jam_report))),
+        ("vp_container_params_for_jam", None, (_P(vp_container_params), _P(vp_jam_params))),
         ("vp_check_params_init", None, (_P(vp_check_params),)),
         ("vp_check_particles", _res,
          (_vp, _vp, _P(vp_particles), _P(vp_check_params), _P(vp_check_report))),

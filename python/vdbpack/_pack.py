@@ -22,12 +22,13 @@ from ._packing import Packing, Report, shape_name
 FLT_MIN = 1.1754943508222875e-38
 FLT_MAX = 3.4028234663852886e+38
 
-METHODS = ("lattice", "rsa", "relax")
-# the options of each method; the others are common to all three
+METHODS = ("lattice", "rsa", "relax", "jam")
+# the options of each method; the others are common to all of them
 _BY_METHOD = {
     "lattice": ("radius", "count", "lattice", "offsets", "rotate", "rotations"),
     "rsa": ("radius", "count", "passes", "retries", "grow", "orient", "overlap"),
     "relax": ("radius", "count", "target_fraction", "tolerance", "max_sweeps"),
+    "jam": ("radius", "count", "target_fraction", "tolerance"),
 }
 _COMMON = ("shape", "fit", "seed", "threads", "max_memory", "progress")
 _LOAD = ("voxel_size", "inside", "iso", "grid")
@@ -185,7 +186,8 @@ def pack(container, method="lattice", **options):
     that the same options give the command line's particles.
 
     method: "lattice" (default), "rsa" (random sequential addition, in
-    passes) or "relax" (relaxation, spheres).
+    passes), "relax" (relaxation, spheres) or "jam" (spheres compressed
+    to the jamming point: random close packing, docs/jam.md).
 
     Options (as `vdbpack pack --help`; None means not given):
 
@@ -205,10 +207,15 @@ def pack(container, method="lattice", **options):
       count (N or "max") and grow; retries; orient ("random", "fixed") and
       overlap ("exact", "bbox") for solids;
     - relax: radius (a number or a distribution), count, target_fraction,
-      tolerance, max_sweeps.
+      tolerance, max_sweeps;
+    - jam: count=N, or radius with target_fraction (default 0.64) for the
+      number; radius (a number or a distribution) sets the radii's shape,
+      their scale is the jamming point's (without radius: equal spheres);
+      tolerance (the largest overlap / (r_i + r_j) allowed, default 1e-6).
+      The report adds mean_contacts, rattler_fraction, core_fraction, ...
     """
     if not isinstance(method, str) or method not in METHODS:
-        raise ValueError("unknown method %r (lattice, rsa, relax)" % (method,))
+        raise ValueError("unknown method %r (lattice, rsa, relax, jam)" % (method,))
     for k in options:
         if k not in _ALL:
             raise TypeError("pack() got an unexpected keyword argument '%s'" % k)
@@ -239,9 +246,9 @@ def pack(container, method="lattice", **options):
             _resolve_shape(shape_opt, threads, progress)  # the unknown name's message
         raise ValueError("a mesh shape (%s) packs with method='rsa' in this version"
                          % (shape_opt.name if isinstance(shape_opt, MeshShape) else shape_opt,))
-    if method == "relax" and shape_id not in (None, 0):
-        raise ValueError("method='relax' packs spheres in this version (shape=%r needs "
-                         "method='lattice' or 'rsa')" % shape_opt)
+    if method in ("relax", "jam") and shape_id not in (None, 0):
+        raise ValueError("method=%r packs spheres in this version (shape=%r needs "
+                         "method='lattice' or 'rsa')" % (method, shape_opt))
     orient = given.get("orient")
     overlap = given.get("overlap")
     if (orient is not None or overlap is not None) and shape_id == 0:
@@ -345,6 +352,36 @@ def pack(container, method="lattice", **options):
         rp.passes = passes
         rp.npasses = len(specs)
         params, keep = rp, [passes]
+    elif method == "jam":
+        # as check_method_options and jam_params: the radii's shape (equal
+        # spheres without radius), N from count or from target_fraction
+        if not has_count and not has_radius:
+            raise ValueError("method='jam' needs count=N, or radius=SIZE (with "
+                             "target_fraction=F, default 0.64, for the number)")
+        if has_count and "target_fraction" in given:
+            raise ValueError("method='jam' takes count=N or target_fraction=F, not both")
+        jp = _lib.vp_jam_params()
+        lib.vp_jam_params_init(ctypes.byref(jp))
+        jp.fit, jp.seed = fit, seed
+        if has_count:
+            if given["count"] == "max":
+                raise ValueError("count='max' goes with method='rsa'")
+            jp.count = _arrays.whole(given["count"], "count", 1, (1 << 64) - 1)
+        if has_radius:
+            jp.radius = _size_dist(given["radius"], "radius")
+        else:
+            jp.radius = _size_dist(1.0, "radius")
+        if "target_fraction" in given:
+            tf = _arrays.number(given["target_fraction"], "target_fraction")
+            if not 0 < tf < 1:
+                raise ValueError("target_fraction must be a number in (0, 1), not %r" % tf)
+            jp.target_fraction = tf
+        if "tolerance" in given:
+            tol = _arrays.number(given["tolerance"], "tolerance")
+            if not 0 < tol < 0.1:
+                raise ValueError("tolerance must be a number in (0, 0.1), not %r" % tol)
+            jp.tolerance = tol
+        params, keep = jp, []
     else:
         if not has_radius or not has_count:
             raise ValueError("method='relax' needs radius (a number or a distribution) and "
@@ -406,6 +443,8 @@ def pack(container, method="lattice", **options):
                 lib.vp_container_params_for_lattice(ctypes.byref(cp), ctypes.byref(params))
             elif method == "rsa":
                 lib.vp_container_params_for_rsa(ctypes.byref(cp), ctypes.byref(params))
+            elif method == "jam":
+                lib.vp_container_params_for_jam(ctypes.byref(cp), ctypes.byref(params))
             else:
                 lib.vp_container_params_for_relax(ctypes.byref(cp), ctypes.byref(params))
             cont = _container._load(_arrays.path(spec), cp, os.path.basename(spec),
@@ -421,12 +460,26 @@ def pack(container, method="lattice", **options):
             raise ValueError("count %d in %s gives a radius of about %g, below 1.2e-38 (radii "
                              "are stored as float): ask for fewer particles"
                              % (params.count, cname, rc))
+    if method == "jam" and params.count and has_radius:
+        # as jam_count_check: N spheres of these radii must fit at all (the
+        # jamming point then scales them; without radius any N does)
+        v = params.count * 4.0 / 3.0 * math.pi * lib.vp_size_dist_mean_cube(
+            ctypes.byref(params.radius))
+        equal = lib.vp_size_dist_min(ctypes.byref(params.radius)) == \
+            lib.vp_size_dist_max(ctypes.byref(params.radius))
+        if not v <= (0.7405 if equal else 1.0) * ci["volume"]:
+            raise _errors.NoFitError(
+                "%d spheres of radius %s fill %.3g times the container's volume, more than "
+                "%s; use fewer or smaller spheres (or leave out radius: jam then finds the "
+                "radius)" % (params.count, _dist_text(params.radius), v / ci["volume"],
+                             "equal spheres can fill (0.7405)" if equal else "it has"))
 
     # -- packing --------------------------------------------------------------
     out = ctypes.POINTER(_lib.vp_particles)()
-    fn = {"lattice": lib.vp_pack_lattice, "rsa": lib.vp_pack_rsa, "relax": lib.vp_pack_relax}
+    fn = {"lattice": lib.vp_pack_lattice, "rsa": lib.vp_pack_rsa, "relax": lib.vp_pack_relax,
+          "jam": lib.vp_pack_jam}
     rep = {"lattice": _lib.vp_lattice_report, "rsa": _lib.vp_rsa_report,
-           "relax": _lib.vp_relax_report}[method]()
+           "relax": _lib.vp_relax_report, "jam": _lib.vp_jam_report}[method]()
     try:
         try:
             _call.run(lambda ctx: fn[method](ctx, cont._ptr, ctypes.byref(params),
@@ -485,6 +538,17 @@ def pack(container, method="lattice", **options):
                  target_fraction=params.target_fraction, sweeps=rep.sweeps,
                  radius_scale=rep.radius_scale, initial_fraction=rep.initial_fraction,
                  max_overlap=rep.max_overlap, seconds=rep.seconds)
+    elif method == "jam":
+        # the command line's --json figures (print_json), and the rest of
+        # vp_jam_report
+        r.update(radius=_dist_text(params.radius), requested_count=params.count,
+                 target_fraction=params.target_fraction if not params.count else None,
+                 tolerance=params.tolerance, radius_scale=rep.radius_scale,
+                 max_overlap=rep.max_overlap, mean_contacts=rep.mean_contacts,
+                 rattler_fraction=rep.rattler_fraction, core_fraction=rep.core_fraction,
+                 core_count=rep.core_count, core_volume=rep.core_volume,
+                 minimizations=rep.minimizations, iterations=rep.iterations,
+                 list_builds=rep.list_builds, seconds=rep.seconds)
     fraction = volume / ci["volume"] if ci["volume"] > 0 else 0.0
     r.update(max_radius=max_radius, particle_volume=volume, container_volume=ci["volume"],
              packing_fraction=fraction, container=cname, container_kind=ci["kind"],
@@ -519,6 +583,10 @@ def pack(container, method="lattice", **options):
         if shape_id != 0:
             md["orient"] = "fixed" if orient == 1 else "random"
             md["overlap"] = "bbox" if overlap == 1 else "exact"
+    elif method == "jam":
+        md.update(radius=_dist_text(params.radius), radius_scale=rep.radius_scale,
+                  max_overlap=rep.max_overlap, mean_contacts=rep.mean_contacts,
+                  rattler_fraction=rep.rattler_fraction, core_fraction=rep.core_fraction)
     else:
         md.update(radius=_dist_text(params.radius), target_fraction=params.target_fraction,
                   radius_scale=rep.radius_scale, max_overlap=rep.max_overlap)

@@ -243,7 +243,7 @@ class Packing:
 
         precision: .vdb positions, "fixed16" or "full" (32-bit float);
         default as the command line: fixed16 for lattice packings, full for
-        rsa and relax (whose particles touch) and for packings read from
+        rsa, relax and jam (whose particles touch) and for packings read from
         files. metadata: a dict added to (and overriding) the packing's own
         (str, int, float values; None removes a key); .ply and .obj get it
         as comments, .csv has none. sphere_subdivisions: .obj spheres (1..16,

@@ -72,6 +72,18 @@ CASES = [
      ["--method", "relax", "--radius", "uniform:0.04:0.06", "--count", "300",
       "--tolerance", "1e-5"],
      dict(radius="uniform:0.04:0.06", count=300, tolerance=1e-5)),
+    ("jam-peanut-uniform", PEANUT,
+     ["--method", "jam", "--radius", "uniform:0.04:0.06", "--count", "300",
+      "--tolerance", "1e-5", "--seed", "3"],
+     dict(radius="uniform:0.04:0.06", count=300, tolerance=1e-5, seed=3)),
+    ("jam-box-target", "box:1,1,1",
+     ["--method", "jam", "--radius", "0.06", "--target-fraction", "0.36"],
+     dict(radius=0.06, target_fraction=0.36)),
+    ("jam-sphere-equal-center", "sphere:1",
+     ["--method", "jam", "--count", "500", "--fit", "center", "--seed", "5"],
+     dict(count=500, fit="center", seed=5)),
+    ("jam-levelset-count", SPHERE_LS, ["--method", "jam", "--grid", "sphere", "--count", "400"],
+     dict(grid="sphere", count=400)),
 ]
 
 
