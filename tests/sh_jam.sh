@@ -6,7 +6,7 @@
 # threads, the report in --json and the file's metadata, and bad input
 # (one line, non-zero exit, no output file).
 set -euo pipefail
-: "${VDBPACK:?}"
+: "${VDBPACK:?}" "${VP_SRC:?}"
 PY=/usr/bin/python3
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT; cd "$W"
 die() { echo "FAIL: $*"; exit 1; }
@@ -82,4 +82,8 @@ bad "no count and no radius" box:1,1,1 --method jam
 bad "--count and --target-fraction" box:1,1,1 --method jam --count 10 --target-fraction 0.6
 bad "a solid shape" box:1,1,1 --method jam --count 10 --shape cube
 bad "--count max" box:1,1,1 --method jam --count max --radius 0.1
+# (centres pushed past a level set's band, where no wall holds them, were
+# squeezed to radii of 1e-18 and written with exit 0)
+bad "spheres that escape a level set's band" "$VP_SRC/vdb_samples/sphere_ls.vdb" --method jam \
+  --count 400 --fit center --seed 4
 echo "sh_jam: all passed"

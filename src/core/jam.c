@@ -803,6 +803,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     double m3 = vp_size_dist_mean_cube(&P->radius), m1 = vp_size_dist_mean(&P->radius);
     double vmean = 4.0 / 3.0 * M_PI * m3;
     s.scale = cbrt(START_FRACTION * c->info.volume / ((double)n * vmean));
+    const double start_scale = s.scale;
     res = place_random(ctx, &s, P);
     if (res != VP_OK) goto done;
     (void)m1;
@@ -885,6 +886,19 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
             break;
         }
         s.scale = next;
+    }
+    /* no jamming point found, or one far below any random packing (the
+     * start overfills by 0.70; the loosest jammed packings are above 0.5):
+     * spheres that the wall does not hold (a centre pushed past a level
+     * set's band, where the distance has no gradient) were squeezed on
+     * and on. An error, not a packing of vanishing spheres. */
+    if (mins >= MAX_MINIMIZATIONS || s.scale < 0.5 * start_scale) {
+        res = vp_fail(ctx, VP_ERR_NO_FIT,
+                      "jam: no jammed state found (radii scaled by %.3g of the start after %d "
+                      "minimisations): spheres escape the container's wall%s",
+                      s.scale / start_scale, mins,
+                      s.fit == VP_FIT_CENTER ? " (with --fit center, try --fit inside)" : "");
+        goto done;
     }
     if (!vp_report_progress(ctx, 0.96, "jam")) {
         res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
