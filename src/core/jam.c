@@ -91,7 +91,7 @@ typedef struct jam {
     double dt, alpha, vscale; /* mixing: v <- (1 - alpha) v + vscale F */
     int zero_v;
     size_t chunk, nchunk;
-    double sum[NCHUNK][6]; /* energy, F.v, F.F, v.v, max displacement^2, overlaps */
+    double sum[NCHUNK][5]; /* energy, F.v, F.F, v.v, max displacement^2 */
 } jam;
 
 static void chunk_range(const jam *s, size_t ci, size_t *lo, size_t *hi) {
@@ -288,7 +288,7 @@ static void force_chunk(void *user, size_t ci) {
     jam *s = user;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
-    double e = 0, fv = 0, ff = 0, vv = 0, ov = 0;
+    double e = 0, fv = 0, ff = 0, vv = 0;
     const double sc = s->scale;
     for (size_t i = lo; i < hi; i++) {
         const double *xi = s->x + 3 * i;
@@ -311,7 +311,6 @@ static void force_chunk(void *user, size_t ci) {
                 fx += i < j ? dl : -dl; /* coincident centres: apart along x */
             }
             e += 0.25 * dl * dl;
-            ov += 0.5 * dl / sij;
         }
         if (s->near_wall[i]) {
             double g[3];
@@ -321,7 +320,6 @@ static void force_chunk(void *user, size_t ci) {
                 fy -= w * g[1];
                 fz -= w * g[2];
                 e += 0.5 * w * w;
-                ov += w / (2 * ri);
             }
         }
         float *fi = s->f + 3 * i;
@@ -337,7 +335,6 @@ static void force_chunk(void *user, size_t ci) {
     s->sum[ci][1] = fv;
     s->sum[ci][2] = ff;
     s->sum[ci][3] = vv;
-    s->sum[ci][5] = ov;
 }
 
 static void move_chunk(void *user, size_t ci) {
@@ -366,17 +363,16 @@ static void move_chunk(void *user, size_t ci) {
 }
 
 typedef struct sums {
-    double e, fv, ff, vv, disp2, ov;
+    double e, fv, ff, vv, disp2;
 } sums;
 
 static sums add_up(const jam *s, int col_max4) {
-    sums t = {0, 0, 0, 0, 0, 0};
+    sums t = {0, 0, 0, 0, 0};
     for (size_t c = 0; c < s->nchunk; c++) {
         t.e += s->sum[c][0];
         t.fv += s->sum[c][1];
         t.ff += s->sum[c][2];
         t.vv += s->sum[c][3];
-        t.ov += s->sum[c][5];
         if (col_max4 && s->sum[c][4] > t.disp2) t.disp2 = s->sum[c][4];
     }
     return t;
@@ -400,7 +396,7 @@ static int minimize(jam *s, vp_context *ctx, int threads, double ftol, minimum *
     s->alpha = FIRE_ALPHA0;
     int npos = 0;
     long step;
-    sums t = {0, 0, 0, 0, 0, 0};
+    sums t = {0, 0, 0, 0, 0};
     for (step = 0; step < MAX_STEPS; step++) {
         vp_parallel_for(threads, s->nchunk, force_chunk, s);
         t = add_up(s, 0);
@@ -800,13 +796,12 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         goto done;
     }
     /* 1. radii scaled to overfill the container, centres at random */
-    double m3 = vp_size_dist_mean_cube(&P->radius), m1 = vp_size_dist_mean(&P->radius);
+    double m3 = vp_size_dist_mean_cube(&P->radius);
     double vmean = 4.0 / 3.0 * M_PI * m3;
     s.scale = cbrt(START_FRACTION * c->info.volume / ((double)n * vmean));
     const double start_scale = s.scale;
     res = place_random(ctx, &s, P);
     if (res != VP_OK) goto done;
-    (void)m1;
     double mean_r0 = 0;
     for (size_t i = 0; i < n; i++) mean_r0 += s.r0[i];
     mean_r0 /= (double)n;
