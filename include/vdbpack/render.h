@@ -24,7 +24,11 @@ typedef enum vp_render_view {
 typedef enum vp_render_colour {
     VP_COLOUR_PASS = 0, /* one colour per point group (pass) */
     VP_COLOUR_SIZE,     /* radius on a blue-to-yellow ramp, smallest to largest */
-    VP_COLOUR_ID        /* a pseudo-random colour per id */
+    VP_COLOUR_ID,       /* a pseudo-random colour per id */
+    VP_COLOUR_CONTACTS  /* spheres: the number of neighbours each touches
+                           (a gap below 1e-4 of r_i + r_j): grey below 4
+                           (rattlers), then blue 4, cyan 5, green 6, yellow
+                           7, red 8 or more */
 } vp_render_colour;
 
 /* Background values of the image channels where no particle projects. */

@@ -99,7 +99,7 @@ ESTIMATES = ("none", "mesh_volume", "winding")
 RSA_STOPS = ("count", "retries", "maximal")
 FORMATS = {"vdb": 1, "ply": 2, "csv": 3, "obj": 4}
 VIEWS = {"iso": 0, "front": 1, "top": 2, "camera": 3}
-COLOURS = {"pass": 0, "size": 1, "id": 2}
+COLOURS = {"pass": 0, "size": 1, "id": 2, "contacts": 3}
 VP_META_STRING, VP_META_INT, VP_META_DOUBLE = 0, 1, 2
 
 # ---------------------------------------------------------------------------

@@ -409,7 +409,8 @@ class Packing:
 
         size "WxH" or (W, H) (or width=, height=; default 960x540); view
         "iso", "front" or "top", or eye=(x, y, z) with target=(x, y, z)
-        (and up); fov in degrees (30); colour "pass", "size" or "id"; cut
+        (and up); fov in degrees (30); colour "pass", "size", "id" or
+        "contacts" (spheres: touching neighbours, as vdbpack render); cut
         "z:0" or ("z", 0.0) removes what lies beyond the plane; ao: ambient
         occlusion rays a pixel (8; 0..64); shadows (True)."""
         rp = _lib.vp_render_params()

@@ -28,7 +28,10 @@ const char *VP_RENDER_HELP =
     "  --camera EX,EY,EZ:TX,TY,TZ   instead of --view: eye and target points (+Y up)\n"
     "  --fov DEG               vertical field of view in degrees (default 30)\n"
     "  --colour NAME           pass (default: one colour per point group), size (by\n"
-    "                          radius) or id (a colour per particle)\n"
+    "                          radius), id (a colour per particle) or contacts\n"
+    "                          (spheres: neighbours touched within 1e-4 of r_i +\n"
+    "                          r_j; grey below 4, blue 4, cyan 5, green 6, yellow\n"
+    "                          7, red 8+)\n"
     "  --cut AXIS:VALUE        remove everything where x, y or z > VALUE; particles\n"
     "                          crossing the plane show their cut faces\n"
     "  --ao N                  ambient-occlusion rays per pixel (default 8, 0..64)\n"
@@ -174,8 +177,9 @@ int vp_cli_render(int argc, char **argv) {
             NEED();
             if (!strcmp(v, "pass")) rp.colour = VP_COLOUR_PASS;
             else if (!strcmp(v, "size")) rp.colour = VP_COLOUR_SIZE;
+            else if (!strcmp(v, "contacts")) rp.colour = VP_COLOUR_CONTACTS;
             else if (!strcmp(v, "id")) rp.colour = VP_COLOUR_ID;
-            else return vp_cli_die(2, "render: unknown --colour '%s' (pass, size, id)", v);
+            else return vp_cli_die(2, "render: unknown --colour '%s' (pass, size, id, contacts)", v);
         } else if (!strcmp(a, "--cut")) {
             NEED();
             if (parse_cut(v, &rp) != 0)

@@ -6,22 +6,27 @@
  *       + sum over spheres 1/2 max(0, r_i + d(x_i))^2    (fit inside;
  *                                                          d(x_i) for centre)
  * (d the container's signed distance, the force along its gradient) are
- * placed at random, overlapping, with their radii scaled so that they
- * overfill the container, and U is minimised by FIRE (Bitzek et al. 2006,
- * with the semi-implicit Euler step of Guenole et al. 2020). Then one
- * scale for all radii is sought where the minimised packing just jams
- * (O'Hern et al. 2003): a minimum with overlaps left is jammed, and its
- * radii shrink by its mean relative overlap (the affine estimate of the
- * jamming point); a minimum without is not, and the scale goes halfway
- * back to the last jammed one. It ends when the largest overlap of a
- * jammed minimum is below FINISH_OVERLAP or the bracket is narrower than
- * FINISH_BRACKET; an exact last step then scales all radii by one factor
- * so that no pair and no wall overlaps at all (in double precision).
+ * placed at random, overlapping, with their radii (r_i = scale r0_i)
+ * scaled so that they overfill the container, and U is minimised by FIRE
+ * (Bitzek et al. 2006, with the semi-implicit Euler step of Guenole et al.
+ * 2020): the quench. Then the scale becomes one more degree of freedom,
+ * pushed up by a constant force (a pressure) and held back by the
+ * overlaps, and the enthalpy U - drive * scale is minimised by the same
+ * FIRE, as a barostat minimises with the box (LAMMPS's fix box/relax
+ * does): at a minimum the mean overlap is what the drive asks.
+ * The pressure falls by tenths until the largest overlap of a minimum is
+ * below FINISH_OVERLAP: the packing is then at its jamming point to that
+ * precision (O'Hern et al. 2003), and an exact last step scales all radii
+ * by one factor so that no pair and no wall overlaps at all (in double
+ * precision).
  *
- * Speed: positions are kept in cell order (re-sorted when the neighbour
- * list is rebuilt), the list holds every pair within r_i + r_j + skin and
- * is rebuilt only when a sphere has moved half the skin; the wall is
- * sampled only for spheres the list build found within reach of it.
+ * Speed: positions (with r0) are kept in cell order (re-sorted when the
+ * neighbour list is rebuilt), the list holds every pair within
+ * r_i + r_j + skin and is rebuilt only when a sphere has moved (or the
+ * radii grown) by half the skin; the wall is sampled only for spheres the
+ * list build found within reach of it; the pair forces are summed four
+ * list entries at a time (AVX2 where the processor has it, the same
+ * arithmetic without).
  * Determinism: work is split into a fixed number of chunks whatever the
  * thread count, each sphere's force is summed over its own list in a fixed
  * order, and the chunks' sums are added in chunk order. */
@@ -38,25 +43,36 @@
 #include <string.h>
 
 #define NCHUNK 256 /* at most; n / 512 for fewer spheres, never fewer than 1 */
-/* FIRE (Bitzek et al. 2006, their Table I) in units where k = m = 1 */
+/* FIRE (Bitzek et al. 2006, their Table I) in units where k = m = 1; the
+ * largest step is near the stability limit of the stiffest contacts
+ * (2 / sqrt(12)), which FIRE's restarts keep in check */
 #define FIRE_DT0 0.02
-#define FIRE_DTMAX 0.2
+#define FIRE_DTMAX 0.5
 #define FIRE_NDELAY 5
 #define FIRE_FINC 1.1
 #define FIRE_FDEC 0.5
 #define FIRE_ALPHA0 0.1
 #define FIRE_FALPHA 0.99
-/* A minimum: the rms force below FORCE_TOL of the rms overlap (balanced),
- * or almost no overlap left (rms below UNJAMMED of the mean diameter). */
-#define FORCE_TOL 3e-3
-#define UNJAMMED (1e-3 * FINISH_OVERLAP)
 #define MAX_STEPS 200000   /* FIRE steps of one minimisation, at most */
-#define MAX_MINIMIZATIONS 60
+#define MAX_MINIMIZATIONS 12
+/* The protocol: random centres with radii that fill START_FRACTION, a
+ * quench there (rms force below QUENCH_TOL of the rms overlap: the deeper
+ * it goes the denser the packing jams), then the radius scale set free
+ * under a pressure that holds a mean overlap of MID_OVERLAP (force below
+ * MID_TOL), then pressures a tenth or less of the last, aimed at a
+ * largest overlap of half FINISH_OVERLAP, minimised to FORCE_TOL once the
+ * mean overlap asked is below FORCE_TOL_BELOW FINISH_OVERLAP. */
 #define START_FRACTION 0.70
+#define QUENCH_TOL 0.0015
+#define MID_OVERLAP 1e-3
+#define MID_TOL 0.1
+#define FORCE_TOL 0.01
+#define FORCE_TOL_BELOW 3.0
 #define FINISH_OVERLAP 8e-5 /* largest overlap / (r_i + r_j) of the last minimum */
-#define FINISH_BRACKET 1e-6
-#define SKIN 0.15           /* of the mean diameter */
+#define QUENCH_SKIN 0.35   /* the list's skin in the quench, of the mean diameter */
+#define SKIN 0.15          /* and after it */
 #define CORE_DIAMETERS 5.0
+#define UNJAMMED (1e-3 * FINISH_OVERLAP) /* rms overlap of the mean diameter: none */
 
 void vp_jam_params_init(vp_jam_params *p) {
     memset(p, 0, sizeof *p);
@@ -71,10 +87,9 @@ typedef struct jam {
     const vp_container *c;
     vp_fit fit;
     size_t n;
-    double *x;        /* 3n positions, in cell order */
+    double *x;        /* 4n: position and r0 of each sphere, in cell order */
     float *v;         /* 3n velocities */
     float *f;         /* 3n forces */
-    double *r0;       /* n radii of the distribution; r_i = scale r0_i */
     float *xr;        /* 3n positions at the last list build */
     uint32_t *id;     /* n: the sphere's index in the output */
     uint32_t *off;    /* n + 1: list of sphere i is nb[off[i] .. off[i+1]) */
@@ -91,8 +106,17 @@ typedef struct jam {
     double dt, alpha, vscale; /* mixing: v <- (1 - alpha) v + vscale F */
     int zero_v;
     size_t chunk, nchunk;
-    double sum[NCHUNK][5]; /* energy, F.v, F.F, v.v, max displacement^2 */
+    double sum[NCHUNK][6]; /* energy, F.v, F.F, v.v, max displacement^2, dU/dscale */
+    /* the radius scale as a degree of freedom (pressure control): its
+     * mass-weighted velocity, sqrt(mass), the constant force that drives
+     * it up, and the scale at the last list build */
+    int baro, avx2;
+    double vs, msq, drive, s_build;
+    double scale_lo, scale_hi; /* beyond these the spheres escape the wall */
 } jam;
+
+/* the radius of sphere i before scaling: r_i = scale R0(s, i) */
+#define R0(s, i) ((s)->x[4 * (size_t)(i) + 3])
 
 static void chunk_range(const jam *s, size_t ci, size_t *lo, size_t *hi) {
     *lo = ci * s->chunk;
@@ -165,48 +189,38 @@ static int grid_init(jam *s, double cell) {
 }
 
 /* Reorders the spheres by cell (a stable counting sort: deterministic)
- * and fills cstart. tmp: 3n doubles of scratch. */
+ * and fills cstart. Its scratch is the forces (recomputed after every
+ * build) and the positions at the last build (rewritten by it), so a
+ * build allocates only the cells' write positions. */
 static int sort_by_cell(jam *s) {
     size_t n = s->n, nc = s->ncells;
-    uint32_t *key = malloc(n * sizeof *key), *perm = malloc(n * sizeof *perm);
-    double *tmp = malloc(3 * n * sizeof *tmp);
-    if (!key || !perm || !tmp) {
-        free(key);
-        free(perm);
-        free(tmp);
-        return -1;
-    }
+    uint32_t *key = (uint32_t *)s->f, *perm = key + n; /* 8n of f's 12n bytes */
+    double *tmp = (double *)(void *)s->xr;             /* 8n of xr's 12n bytes */
+    uint32_t *pos = malloc(nc * sizeof *pos);
+    if (!pos) return -1;
     memset(s->cstart, 0, (nc + 1) * sizeof *s->cstart);
     for (size_t i = 0; i < n; i++) {
-        key[i] = (uint32_t)cell_of(s, s->x + 3 * i);
+        key[i] = (uint32_t)cell_of(s, s->x + 4 * i);
         s->cstart[key[i] + 1]++;
     }
     for (size_t c = 0; c < nc; c++) s->cstart[c + 1] += s->cstart[c];
     /* perm[new] = old */
-    uint32_t *pos = malloc(nc * sizeof *pos);
-    if (!pos) {
-        free(key);
-        free(perm);
-        free(tmp);
-        return -1;
-    }
     memcpy(pos, s->cstart, nc * sizeof *pos);
     for (size_t i = 0; i < n; i++) perm[pos[key[i]]++] = (uint32_t)i;
     free(pos);
-    free(key);
-    /* apply: x (via tmp), then v, f (as floats in tmp), r0, id */
-    for (size_t i = 0; i < n; i++) memcpy(tmp + 3 * i, s->x + 3 * (size_t)perm[i], 3 * sizeof *tmp);
-    memcpy(s->x, tmp, 3 * n * sizeof *tmp);
+    /* apply, one component at a time through tmp */
+    for (int k = 0; k < 4; k++) {
+        for (size_t i = 0; i < n; i++) tmp[i] = s->x[4 * (size_t)perm[i] + k];
+        for (size_t i = 0; i < n; i++) s->x[4 * i + k] = tmp[i];
+    }
     float *tf = (float *)tmp;
-    for (size_t i = 0; i < n; i++) memcpy(tf + 3 * i, s->v + 3 * (size_t)perm[i], 3 * sizeof *tf);
-    memcpy(s->v, tf, 3 * n * sizeof *tf);
-    for (size_t i = 0; i < n; i++) tmp[i] = s->r0[perm[i]];
-    memcpy(s->r0, tmp, n * sizeof *tmp);
+    for (int k = 0; k < 3; k++) {
+        for (size_t i = 0; i < n; i++) tf[i] = s->v[3 * (size_t)perm[i] + k];
+        for (size_t i = 0; i < n; i++) s->v[3 * i + k] = tf[i];
+    }
     uint32_t *tu = (uint32_t *)tmp;
     for (size_t i = 0; i < n; i++) tu[i] = s->id[perm[i]];
     memcpy(s->id, tu, n * sizeof *tu);
-    free(perm);
-    free(tmp);
     return 0;
 }
 
@@ -222,8 +236,8 @@ static void build_chunk(void *user, size_t ci) {
     chunk_range(s, ci, &lo, &hi);
     const double reach_extra = s->skin;
     for (size_t i = lo; i < hi; i++) {
-        const double *xi = s->x + 3 * i;
-        double ri = s->scale * s->r0[i];
+        const double *xi = s->x + 4 * i;
+        double ri = s->scale * R0(s, i);
         int c[3];
         for (int k = 0; k < 3; k++) {
             double t = (xi[k] - s->lo[k]) / s->cell;
@@ -241,8 +255,8 @@ static void build_chunk(void *user, size_t ci) {
                 uint32_t a = s->cstart[row + (size_t)x0], e = s->cstart[row + (size_t)x1 + 1];
                 for (uint32_t j = a; j < e; j++) {
                     if (j == i) continue;
-                    const double *xj = s->x + 3 * (size_t)j;
-                    double reach = ri + s->scale * s->r0[j] + reach_extra;
+                    const double *xj = s->x + 4 * (size_t)j;
+                    double reach = ri + s->scale * R0(s, j) + reach_extra;
                     double dx = xi[0] - xj[0], dy2 = xi[1] - xj[1], dz2 = xi[2] - xj[2];
                     if (dx * dx + dy2 * dy2 + dz2 * dz2 < reach * reach) {
                         if (b->fill) s->nb[k_out + count] = j;
@@ -264,14 +278,18 @@ static void build_chunk(void *user, size_t ci) {
 
 /* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory). */
 static int build_list(jam *s, int threads) {
+    if (2 * s->scale * s->r0max + s->skin > s->cell && grid_init(s, 2 * s->scale * s->r0max + s->skin) != 0)
+        return -1;
+    s->s_build = s->scale;
     if (sort_by_cell(s) != 0) return -1;
     build_pass b = {s, 0};
     s->off[0] = 0;
     vp_parallel_for(threads, s->nchunk, build_chunk, &b);
     for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
     size_t total = s->off[s->n];
-    if (total > s->nb_cap) {
-        size_t cap = total + total / 8 + 64;
+    if (total > s->nb_cap || total < s->nb_cap / 2) {
+        /* grown with a sixteenth to spare; shrunk after the quench's wide skin */
+        size_t cap = total + total / 16 + 64;
         uint32_t *nb = realloc(s->nb, cap * sizeof *nb);
         if (!nb) return -1;
         s->nb = nb;
@@ -284,34 +302,140 @@ static int build_list(jam *s, int threads) {
 
 /* ---- forces and the FIRE step -------------------------------------------- */
 
+/* The pair forces on sphere i from its list, four list entries at a time
+ * in four lanes whose sums are added as (l0 + l1) + (l2 + l3): out = force
+ * x, y, z, energy (a quarter of overlap^2 per entry: each pair is in both
+ * lists), dU/dscale (half of overlap (r0_i + r0_j) per entry). The
+ * portable form below and the AVX2 form do the same arithmetic in the
+ * same order (no FMA), so the packing does not depend on the processor. */
+typedef struct pair_sum {
+    double f[3], e, duds;
+} pair_sum;
+
+static void lanes_add(const double l[5][4], pair_sum *o) {
+    o->f[0] = (l[0][0] + l[0][1]) + (l[0][2] + l[0][3]);
+    o->f[1] = (l[1][0] + l[1][1]) + (l[1][2] + l[1][3]);
+    o->f[2] = (l[2][0] + l[2][1]) + (l[2][2] + l[2][3]);
+    o->e = (l[3][0] + l[3][1]) + (l[3][2] + l[3][3]);
+    o->duds = (l[4][0] + l[4][1]) + (l[4][2] + l[4][3]);
+}
+
+/* One lane's entry: j (the neighbour) or, past the list's end, nothing. */
+static void lane_entry(const jam *s, size_t i, uint32_t j, double l[5][4], int lane) {
+    const double *xi = s->x + 4 * i, *xj = s->x + 4 * (size_t)j;
+    const double sc = s->scale;
+    double sij = sc * R0(s, i) + sc * R0(s, j);
+    double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+    double d2 = dx * dx + dy * dy + dz * dz;
+    if (!(d2 < sij * sij)) return;
+    double d = sqrt(d2);
+    double dl = sij - d;
+    if (d > 0) {
+        double g = dl / d;
+        l[0][lane] += g * dx;
+        l[1][lane] += g * dy;
+        l[2][lane] += g * dz;
+    } else {
+        l[0][lane] += i < j ? dl : -dl; /* coincident centres: apart along x */
+    }
+    l[3][lane] += 0.25 * (dl * dl);
+    l[4][lane] += 0.5 * (dl * (R0(s, i) + R0(s, j)));
+}
+
+static void pair_forces_c(const jam *s, size_t i, pair_sum *o) {
+    double l[5][4];
+    memset(l, 0, sizeof l);
+    uint32_t k = s->off[i], e = s->off[i + 1];
+    for (; k < e; k++) lane_entry(s, i, s->nb[k], l, (int)((k - s->off[i]) & 3));
+    lanes_add(l, o);
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define VP_JAM_AVX2 1
+__attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_t i,
+                                                            pair_sum *o) {
+    const double *xi = s->x + 4 * i;
+    const double sc = s->scale;
+    const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
+                  xi2 = _mm256_set1_pd(xi[2]);
+    const __m256d vsc = _mm256_set1_pd(sc), ri = _mm256_set1_pd(sc * R0(s, i)),
+                  r0i = _mm256_set1_pd(R0(s, i)), quarter = _mm256_set1_pd(0.25),
+                  half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
+    __m256d ax = zero, ay = zero, az = zero, ae = zero, as = zero;
+    uint32_t k0 = s->off[i], e = s->off[i + 1];
+    double l[5][4];
+    int fallback = 0;
+    for (uint32_t k = k0; k < e; k += 4) {
+        int live = (int)(e - k < 4 ? e - k : 4);
+        /* four spheres' (x, y, z, r0), transposed to x, y, z, r0 of four */
+        __m256d p0 = _mm256_loadu_pd(s->x + 4 * (size_t)s->nb[k]);
+        __m256d p1 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 1 ? s->nb[k + 1] : i));
+        __m256d p2 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 2 ? s->nb[k + 2] : i));
+        __m256d p3 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 3 ? s->nb[k + 3] : i));
+        __m256d t0 = _mm256_unpacklo_pd(p0, p1), t1 = _mm256_unpackhi_pd(p0, p1);
+        __m256d t2 = _mm256_unpacklo_pd(p2, p3), t3 = _mm256_unpackhi_pd(p2, p3);
+        __m256d xj0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+        __m256d xj1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+        __m256d xj2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+        __m256d r0j = _mm256_permute2f128_pd(t1, t3, 0x31);
+        __m256d sij = _mm256_add_pd(ri, _mm256_mul_pd(vsc, r0j));
+        __m256d dx = _mm256_sub_pd(xi0, xj0), dy = _mm256_sub_pd(xi1, xj1),
+                dz = _mm256_sub_pd(xi2, xj2);
+        __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                   _mm256_mul_pd(dz, dz));
+        __m256d m = _mm256_cmp_pd(d2, _mm256_mul_pd(sij, sij), _CMP_LT_OQ);
+        /* lanes past the end: off */
+        const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
+        __m256d on = _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_set1_epi64x(live), lanes));
+        m = _mm256_and_pd(m, on);
+        int mb = _mm256_movemask_pd(m);
+        if (!mb) continue;
+        if (_mm256_movemask_pd(_mm256_and_pd(m, _mm256_cmp_pd(d2, zero, _CMP_EQ_OQ)))) {
+            fallback = 1; /* coincident centres: the portable form */
+            break;
+        }
+        __m256d d = _mm256_sqrt_pd(d2);
+        __m256d dl = _mm256_and_pd(_mm256_sub_pd(sij, d), m);
+        __m256d g = _mm256_div_pd(dl, _mm256_blendv_pd(_mm256_set1_pd(1.0), d, m));
+        ax = _mm256_add_pd(ax, _mm256_mul_pd(g, dx));
+        ay = _mm256_add_pd(ay, _mm256_mul_pd(g, dy));
+        az = _mm256_add_pd(az, _mm256_mul_pd(g, dz));
+        ae = _mm256_add_pd(ae, _mm256_mul_pd(quarter, _mm256_mul_pd(dl, dl)));
+        as = _mm256_add_pd(as, _mm256_mul_pd(half, _mm256_mul_pd(dl, _mm256_add_pd(r0i, r0j))));
+    }
+    if (fallback) {
+        pair_forces_c(s, i, o);
+        return;
+    }
+    _mm256_storeu_pd(l[0], ax);
+    _mm256_storeu_pd(l[1], ay);
+    _mm256_storeu_pd(l[2], az);
+    _mm256_storeu_pd(l[3], ae);
+    _mm256_storeu_pd(l[4], as);
+    lanes_add(l, o);
+}
+#endif
+
 static void force_chunk(void *user, size_t ci) {
     jam *s = user;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
-    double e = 0, fv = 0, ff = 0, vv = 0;
+    double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
     const double sc = s->scale;
     for (size_t i = lo; i < hi; i++) {
-        const double *xi = s->x + 3 * i;
-        double ri = sc * s->r0[i], fx = 0, fy = 0, fz = 0;
-        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
-            uint32_t j = s->nb[k];
-            const double *xj = s->x + 3 * (size_t)j;
-            double sij = ri + sc * s->r0[j];
-            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-            double d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 >= sij * sij) continue;
-            double d = sqrt(d2);
-            double dl = sij - d;
-            if (d > 0) {
-                double g = dl / d;
-                fx += g * dx;
-                fy += g * dy;
-                fz += g * dz;
-            } else {
-                fx += i < j ? dl : -dl; /* coincident centres: apart along x */
-            }
-            e += 0.25 * dl * dl;
-        }
+        const double *xi = s->x + 4 * i;
+        double ri = sc * R0(s, i);
+        pair_sum ps;
+#ifdef VP_JAM_AVX2
+        if (s->avx2)
+            pair_forces_avx2(s, i, &ps);
+        else
+#endif
+            pair_forces_c(s, i, &ps);
+        double fx = ps.f[0], fy = ps.f[1], fz = ps.f[2];
+        e += ps.e;
+        duds += ps.duds;
         if (s->near_wall[i]) {
             double g[3];
             double w = wall_overlap(s, xi, ri, g);
@@ -320,6 +444,7 @@ static void force_chunk(void *user, size_t ci) {
                 fy -= w * g[1];
                 fz -= w * g[2];
                 e += 0.5 * w * w;
+                if (s->fit == VP_FIT_INSIDE) duds += w * R0(s, i);
             }
         }
         float *fi = s->f + 3 * i;
@@ -335,6 +460,7 @@ static void force_chunk(void *user, size_t ci) {
     s->sum[ci][1] = fv;
     s->sum[ci][2] = ff;
     s->sum[ci][3] = vv;
+    s->sum[ci][5] = duds;
 }
 
 static void move_chunk(void *user, size_t ci) {
@@ -346,7 +472,7 @@ static void move_chunk(void *user, size_t ci) {
     for (size_t i = lo; i < hi; i++) {
         float *vi = s->v + 3 * i;
         const float *fi = s->f + 3 * i;
-        double *xi = s->x + 3 * i;
+        double *xi = s->x + 4 * i;
         const float *xr = s->xr + 3 * i;
         double d2 = 0;
         for (int k = 0; k < 3; k++) {
@@ -363,16 +489,17 @@ static void move_chunk(void *user, size_t ci) {
 }
 
 typedef struct sums {
-    double e, fv, ff, vv, disp2;
+    double e, fv, ff, vv, disp2, duds;
 } sums;
 
 static sums add_up(const jam *s, int col_max4) {
-    sums t = {0, 0, 0, 0, 0};
+    sums t = {0, 0, 0, 0, 0, 0};
     for (size_t c = 0; c < s->nchunk; c++) {
         t.e += s->sum[c][0];
         t.fv += s->sum[c][1];
         t.ff += s->sum[c][2];
         t.vv += s->sum[c][3];
+        t.duds += s->sum[c][5];
         if (col_max4 && s->sum[c][4] > t.disp2) t.disp2 = s->sum[c][4];
     }
     return t;
@@ -385,25 +512,50 @@ typedef struct minimum {
     int jammed;
 } minimum;
 
-/* Minimises U at the current scale by FIRE. Returns 0, -1 (out of
- * memory) or -2 (cancelled). */
+/* Rebuilds the list when a sphere has moved, or the radii have grown,
+ * by more than the skin allows: 0 or -1 (out of memory). */
+static int maybe_rebuild(jam *s, int threads, double disp2, int *builds) {
+    double grow = s->scale > s->s_build ? 2.0 * (s->scale - s->s_build) * s->r0max : 0.0;
+    double moved = 2.0 * sqrt(disp2) + grow;
+    if (moved <= s->skin) return 0;
+    if (build_list(s, threads) != 0) return -1;
+    (*builds)++;
+    return 0;
+}
+
+/* Minimises U (s->baro 0: at the current scale) or the enthalpy
+ * U - drive * scale (s->baro 1: the scale is one more degree of freedom,
+ * of mass msq^2, pushed up by a constant force and held by the overlaps)
+ * by FIRE. A minimum: rms force below ftol of the rms overlap and, with
+ * the scale free, dU/dscale within ftol of the drive. Returns 0, -1 (out
+ * of memory) or -2 (cancelled). */
 static int minimize(jam *s, vp_context *ctx, int threads, double ftol, minimum *m,
                     long *steps_total, int *builds, double progress_lo, double progress_hi) {
     size_t n = s->n;
     double dm = s->dmean;
     memset(s->v, 0, 3 * n * sizeof *s->v);
+    s->vs = 0;
     s->dt = FIRE_DT0;
     s->alpha = FIRE_ALPHA0;
     int npos = 0;
     long step;
-    sums t = {0, 0, 0, 0, 0};
+    sums t = {0, 0, 0, 0, 0, 0};
     for (step = 0; step < MAX_STEPS; step++) {
         vp_parallel_for(threads, s->nchunk, force_chunk, s);
         t = add_up(s, 0);
+        double fs = 0;
+        if (s->baro) {
+            fs = (s->drive - t.duds) / s->msq;
+            t.fv += fs * s->vs;
+            t.ff += fs * fs;
+            t.vv += s->vs * s->vs;
+        }
         double rms_overlap = sqrt(2.0 * t.e / (double)n);
         double rms_force = sqrt(t.ff / (double)n);
-        if (rms_overlap < UNJAMMED * dm) break;
-        if (rms_force < ftol * rms_overlap) break;
+        if (!s->baro && rms_overlap < UNJAMMED * dm) break;
+        if (rms_force < ftol * rms_overlap &&
+            (!s->baro || fabs(s->drive - t.duds) < ftol * s->drive))
+            break;
         if ((step & 255) == 255) {
             double frac = progress_lo + (progress_hi - progress_lo) * (1.0 - exp(-step / 20000.0));
             if (!vp_report_progress(ctx, frac, "jam")) return -2;
@@ -422,12 +574,16 @@ static int minimize(jam *s, vp_context *ctx, int threads, double ftol, minimum *
             s->zero_v = 1;
         }
         s->vscale = t.ff > 0 ? s->alpha * sqrt(t.vv / t.ff) : 0.0;
+        if (s->baro) {
+            double v = s->zero_v ? 0.0 : (1.0 - s->alpha) * s->vs + s->vscale * fs;
+            v += s->dt * fs;
+            s->vs = v;
+            s->scale += s->dt * v / s->msq;
+            if (!(s->scale > s->scale_lo && s->scale < s->scale_hi)) break;
+        }
         vp_parallel_for(threads, s->nchunk, move_chunk, s);
         sums mv = add_up(s, 1);
-        if (mv.disp2 > 0.25 * s->skin * s->skin) {
-            if (build_list(s, threads) != 0) return -1;
-            (*builds)++;
-        }
+        if (maybe_rebuild(s, threads, mv.disp2, builds) != 0) return -1;
     }
     m->e = t.e / (double)n / (dm * dm);
     m->rms = sqrt(t.ff / (double)n) / dm;
@@ -453,13 +609,13 @@ static void overlap_chunk(void *user, size_t ci) {
     double worst = 0, sum = 0;
     size_t count = 0;
     for (size_t i = lo; i < hi; i++) {
-        const double *xi = s->x + 3 * i;
-        double ri = s->scale * s->r0[i];
+        const double *xi = s->x + 4 * i;
+        double ri = s->scale * R0(s, i);
         for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
             uint32_t j = s->nb[k];
             if (j < i) continue;
-            const double *xj = s->x + 3 * (size_t)j;
-            double sij = ri + s->scale * s->r0[j];
+            const double *xj = s->x + 4 * (size_t)j;
+            double sij = ri + s->scale * R0(s, j);
             double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
             double d2 = dx * dx + dy * dy + dz * dz;
             if (d2 >= sij * sij) continue;
@@ -509,15 +665,15 @@ static void overlaps(jam *s, int threads, double *worst, double *mean) {
 static double safe_factor(jam *s) {
     double f = 1.0;
     for (size_t i = 0; i < s->n; i++) {
-        const double *xi = s->x + 3 * i;
-        double r0i = s->r0[i];
+        const double *xi = s->x + 4 * i;
+        double r0i = R0(s, i);
         for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
             uint32_t j = s->nb[k];
             if (j < i) continue;
-            const double *xj = s->x + 3 * (size_t)j;
+            const double *xj = s->x + 4 * (size_t)j;
             double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
             double d = sqrt(dx * dx + dy * dy + dz * dz);
-            double g = d / (s->scale * (r0i + s->r0[j]));
+            double g = d / (s->scale * (r0i + R0(s, j)));
             if (g < f) f = g;
         }
         if (s->fit == VP_FIT_INSIDE) {
@@ -533,14 +689,14 @@ static double safe_factor(jam *s) {
  * a small part of their radius) move back along the gradient. */
 static void project_centres(jam *s) {
     for (size_t i = 0; i < s->n; i++) {
-        double *x = s->x + 3 * i;
-        double want = s->fit == VP_FIT_INSIDE ? -0.5 * s->scale * s->r0[i] : 0.0;
+        double *x = s->x + 4 * i;
+        double want = s->fit == VP_FIT_INSIDE ? -0.5 * s->scale * R0(s, i) : 0.0;
         for (int it = 0; it < 8; it++) {
             double d = vp_container_distance(s->c, x);
             if (d <= want) break;
             double g[3];
             vp_container_gradient(s->c, x, g);
-            double step = (d - want) * (1.0 + 1e-9) + 1e-12 + 1e-9 * s->scale * s->r0[i] * (1 << it);
+            double step = (d - want) * (1.0 + 1e-9) + 1e-12 + 1e-9 * s->scale * R0(s, i) * (1 << it);
             for (int k = 0; k < 3; k++) x[k] -= step * g[k];
         }
     }
@@ -559,13 +715,13 @@ static void contacts(jam *s, double gap, vp_jam_report *rep) {
     }
     /* contact counts (pairs both ways, the wall once) */
     for (size_t i = 0; i < n; i++) {
-        const double *xi = s->x + 3 * i;
-        double ri = s->scale * s->r0[i];
+        const double *xi = s->x + 4 * i;
+        double ri = s->scale * R0(s, i);
         unsigned c = 0;
         for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
             uint32_t j = s->nb[k];
-            const double *xj = s->x + 3 * (size_t)j;
-            double sij = ri + s->scale * s->r0[j];
+            const double *xj = s->x + 4 * (size_t)j;
+            double sij = ri + s->scale * R0(s, j);
             double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
             if (sqrt(dx * dx + dy * dy + dz * dz) - sij < gap * sij) c++;
         }
@@ -585,12 +741,12 @@ static void contacts(jam *s, double gap, vp_jam_report *rep) {
             if (rattler[i] || z[i] >= 4) continue;
             rattler[i] = 1;
             changed = 1;
-            const double *xi = s->x + 3 * i;
-            double ri = s->scale * s->r0[i];
+            const double *xi = s->x + 4 * i;
+            double ri = s->scale * R0(s, i);
             for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
                 uint32_t j = s->nb[k];
-                const double *xj = s->x + 3 * (size_t)j;
-                double sij = ri + s->scale * s->r0[j];
+                const double *xj = s->x + 4 * (size_t)j;
+                double sij = ri + s->scale * R0(s, j);
                 double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
                 if (sqrt(dx * dx + dy * dy + dz * dz) - sij < gap * sij && z[j] > 0) z[j]--;
             }
@@ -616,9 +772,9 @@ static void core(jam *s, vp_jam_report *rep) {
     size_t count = 0;
     double vol = 0;
     for (size_t i = 0; i < s->n; i++) {
-        if (vp_container_distance(s->c, s->x + 3 * i) < -depth) {
+        if (vp_container_distance(s->c, s->x + 4 * i) < -depth) {
             count++;
-            double r = s->scale * s->r0[i];
+            double r = s->scale * R0(s, i);
             vol += 4.0 / 3.0 * M_PI * r * r * r;
         }
     }
@@ -714,7 +870,6 @@ static void jam_free(jam *s) {
     free(s->x);
     free(s->v);
     free(s->f);
-    free(s->r0);
     free(s->xr);
     free(s->id);
     free(s->off);
@@ -730,14 +885,14 @@ static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
     uint64_t rs = vp_rng_stream(P->seed, 1), ps = vp_rng_stream(P->seed, 2);
     double m = 0, rmax = 0;
     for (size_t i = 0; i < s->n; i++) {
-        s->r0[i] = vp_size_dist_sample(&P->radius, &rs);
-        m += s->r0[i];
-        if (s->r0[i] > rmax) rmax = s->r0[i];
+        R0(s, i) = vp_size_dist_sample(&P->radius, &rs);
+        m += R0(s, i);
+        if (R0(s, i) > rmax) rmax = R0(s, i);
         s->id[i] = (uint32_t)i;
     }
     s->r0max = rmax;
     for (size_t i = 0; i < s->n; i++) {
-        double r = s->scale * s->r0[i], lo[3], hi[3];
+        double r = s->scale * R0(s, i), lo[3], hi[3];
         double in = s->fit == VP_FIT_INSIDE ? r : 0.0;
         for (int k = 0; k < 3; k++) {
             lo[k] = ci->bmin[k] + in;
@@ -746,7 +901,7 @@ static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
         int placed = 0;
         if (hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2])
             for (int t = 0; t < 100000 && !placed; t++) {
-                double *x = s->x + 3 * i;
+                double *x = s->x + 4 * i;
                 for (int k = 0; k < 3; k++) x[k] = lo[k] + (hi[k] - lo[k]) * vp_rng_uniform(&ps);
                 placed = vp_container_distance(s->c, x) <= (s->fit == VP_FIT_INSIDE ? -r : 0.0);
             }
@@ -780,10 +935,9 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     s.n = n;
     s.nchunk = n / 512 < 1 ? 1 : n / 512 > NCHUNK ? NCHUNK : n / 512;
     s.chunk = (n + s.nchunk - 1) / s.nchunk;
-    s.x = malloc(3 * n * sizeof *s.x);
+    s.x = malloc(4 * n * sizeof *s.x);
     s.v = calloc(3 * n, sizeof *s.v);
     s.f = calloc(3 * n, sizeof *s.f);
-    s.r0 = malloc(n * sizeof *s.r0);
     s.xr = malloc(3 * n * sizeof *s.xr);
     s.id = malloc(n * sizeof *s.id);
     s.off = malloc((n + 1) * sizeof *s.off);
@@ -791,7 +945,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     vp_particles *p = NULL;
     vp_jam_report rep;
     memset(&rep, 0, sizeof rep);
-    if (!s.x || !s.v || !s.f || !s.r0 || !s.xr || !s.id || !s.off || !s.near_wall) {
+    if (!s.x || !s.v || !s.f || !s.xr || !s.id || !s.off || !s.near_wall) {
         res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for %zu spheres", n);
         goto done;
     }
@@ -803,26 +957,57 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     res = place_random(ctx, &s, P);
     if (res != VP_OK) goto done;
     double mean_r0 = 0;
-    for (size_t i = 0; i < n; i++) mean_r0 += s.r0[i];
+    for (size_t i = 0; i < n; i++) mean_r0 += R0(&s, i);
     mean_r0 /= (double)n;
     int threads = vp_threads_for(ctx);
+#ifdef VP_JAM_AVX2
+    const char *no_simd = getenv("VDBPACK_NO_SIMD");
+    s.avx2 = __builtin_cpu_supports("avx2") && !(no_simd && *no_simd && strcmp(no_simd, "0") != 0);
+#endif
 
-    /* 2. minimise, then scale towards the jamming point */
-    double s_lo = 0, s_hi = HUGE_VAL, worst = HUGE_VAL, mean = 0, prev_scale = 0, prev_mean = 0;
+    /* 2. a quench at the start's scale, then the scale set free under a
+     * falling pressure until the largest overlap is below the finish */
     int builds = 0, mins = 0;
     long steps = 0;
+    double worst = HUGE_VAL, mean = 0;
+    s.dmean = 2 * s.scale * mean_r0;
+    s.skin = QUENCH_SKIN * s.dmean;
+    if (grid_init(&s, 2 * s.scale * s.r0max + s.skin) != 0 || build_list(&s, threads) != 0) {
+        res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
+        goto done;
+    }
+    builds++;
+    /* the scale's mass: the stiffness of the scale, sum over contacts of
+     * (r0_i + r0_j)^2, about 3 n (2 mean r0)^2, so that it moves as fast as
+     * a sphere does */
+    s.msq = sqrt(3.0 * (double)n) * 2.0 * mean_r0;
+    double tau = 0; /* the mean overlap asked: none in the quench */
+    /* no packing jams with radii half the start's (an eighth of its
+     * fraction) or 1.25 times them (fraction 1.37): spheres that the wall
+     * does not hold drive the scale there */
+    s.scale_lo = 0.5 * start_scale;
+    s.scale_hi = 1.25 * start_scale;
     for (mins = 0; mins < MAX_MINIMIZATIONS; mins++) {
-        s.dmean = 2 * s.scale * mean_r0;
-        s.skin = SKIN * s.dmean;
-        if (grid_init(&s, 2 * s.scale * s.r0max + s.skin) != 0 || build_list(&s, threads) != 0) {
-            res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
-            goto done;
-        }
-        builds++;
         minimum m;
-        double plo = 0.95 * mins / MAX_MINIMIZATIONS;
-        double ftol = mean > 10 * FINISH_OVERLAP ? 10 * FORCE_TOL : FORCE_TOL;
-        int rc = minimize(&s, ctx, threads, ftol, &m, &steps, &builds, plo, plo + 0.95 / MAX_MINIMIZATIONS);
+        double plo = 0.95 * (1.0 - exp(-mins / 3.0));
+        s.baro = mins > 0;
+        if (mins == 1) {
+            /* the quench moves spheres far: a wide skin; then a narrow one */
+            s.skin = SKIN * s.dmean;
+            if (build_list(&s, threads) != 0) {
+                res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
+                goto done;
+            }
+            builds++;
+        }
+        /* the drive that holds a mean overlap of tau (r_i + r_j) over 3 n
+         * contacts: dU/dscale = sum of overlap (r0_i + r0_j) */
+        s.drive = 3.0 * (double)n * tau * s.scale * 4.0 * mean_r0 * mean_r0;
+        double ftol = mins == 0                                 ? QUENCH_TOL
+                      : tau > FORCE_TOL_BELOW * FINISH_OVERLAP ? MID_TOL
+                                                               : FORCE_TOL;
+        int rc = minimize(&s, ctx, threads, ftol, &m, &steps, &builds, plo,
+                          0.95 * (1.0 - exp(-(mins + 1) / 3.0)));
         if (rc == -2) {
             res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
             goto done;
@@ -831,63 +1016,19 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
             res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
             goto done;
         }
-        double next;
-        if (m.jammed) {
-            overlaps(&s, threads, &worst, &mean);
-            if (worst <= FINISH_OVERLAP) {
-                s_hi = s.scale;
-                break;
-            }
-            /* the mean overlap falls linearly to 0 at the jamming point:
-             * the secant through the last two jammed minima (the first
-             * time, twice the affine estimate), aimed at a mean overlap of
-             * a tenth of the finish */
-            double aim = 0.2 * FINISH_OVERLAP;
-            if (prev_scale > 0 && prev_mean > mean && prev_scale > s.scale)
-                next = s.scale - (mean - aim) * (prev_scale - s.scale) / (prev_mean - mean);
-            else
-                next = s.scale * (1.0 - 2.0 * (mean - aim));
-            prev_scale = s.scale;
-            prev_mean = mean;
-            s_hi = s.scale;
-            if (!(next > s_lo) || !(next < s_hi)) next = 0.5 * (s_lo + s_hi);
-        } else {
-            s_lo = s.scale;
-            worst = mean = 0;
-            next = isfinite(s_hi) ? 0.5 * (s_lo + s_hi) : s.scale * 1.02;
-        }
-        if (isfinite(s_hi) && s_lo > 0 && (s_hi - s_lo) < FINISH_BRACKET * s_hi) {
-            /* the bracket closed on an unjammed minimum, whose gaps are
-             * not contacts: the jammed side's, minimised, is the end */
-            if (!m.jammed) {
-                s.scale = s_hi;
-                if (build_list(&s, threads) != 0) {
-                    res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
-                                  "jam: out of memory for the neighbour list");
-                    goto done;
-                }
-                builds++;
-                rc = minimize(&s, ctx, threads, FORCE_TOL, &m, &steps, &builds, 0.95, 0.96);
-                if (rc == -2) {
-                    res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
-                    goto done;
-                }
-                if (rc != 0) {
-                    res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
-                                  "jam: out of memory for the neighbour list");
-                    goto done;
-                }
-            }
-            break;
-        }
-        s.scale = next;
+        overlaps(&s, threads, &worst, &mean);
+        if (!(s.scale > s.scale_lo && s.scale < s.scale_hi)) break;
+        if (mins > 0 && worst <= FINISH_OVERLAP) break;
+        /* the next pressure: the mean overlap falls with it in proportion */
+        double next = mins == 0 ? MID_OVERLAP : tau * 0.5 * FINISH_OVERLAP / worst;
+        if (next < 0.1 * tau) next = 0.1 * tau;
+        tau = next;
     }
-    /* no jamming point found, or one far below any random packing (the
-     * start overfills by 0.70; the loosest jammed packings are above 0.5):
-     * spheres that the wall does not hold (a centre pushed past a level
-     * set's band, where the distance has no gradient) were squeezed on
-     * and on. An error, not a packing of vanishing spheres. */
-    if (mins >= MAX_MINIMIZATIONS || s.scale < 0.5 * start_scale) {
+    /* no jamming point found, or the scale ran off: spheres that the wall
+     * does not hold (a centre pushed past a level set's band, where the
+     * distance has no gradient) leave, and the rest are squeezed on and on
+     * or grow without bound. An error, not a packing of vanishing spheres. */
+    if (mins >= MAX_MINIMIZATIONS || !(s.scale > s.scale_lo && s.scale < s.scale_hi)) {
         res = vp_fail(ctx, VP_ERR_NO_FIT,
                       "jam: no jammed state found (radii scaled by %.3g of the start after %d "
                       "minimisations): spheres escape the container's wall%s",
@@ -940,8 +1081,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     double vol = 0;
     for (size_t i = 0; i < n; i++) {
         size_t o = s.id[i];
-        memcpy(p->positions + 3 * o, s.x + 3 * i, 3 * sizeof(double));
-        double r = s.scale * s.r0[i];
+        memcpy(p->positions + 3 * o, s.x + 4 * i, 3 * sizeof(double));
+        double r = s.scale * R0(&s, i);
         float rf = (float)r;
         while ((double)rf > r) rf = nextafterf(rf, 0.0f);
         p->radii[o] = rf;

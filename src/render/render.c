@@ -17,6 +17,7 @@
 #include "core/geom.h"
 #include "core/parallel.h"
 #include "core/mesh_shape.h"
+#include "core/sgrid.h"
 #include "core/shape.h"
 #include "core/superball.h"
 
@@ -56,6 +57,7 @@ typedef struct scene {
     uint32_t *cell_start;      /* n0*n1*n2 + 1 offsets into refs */
     uint32_t *refs;            /* particle indices, by cell */
     double rmin, rmax, rmean;
+    uint8_t *contacts;         /* per particle, VP_COLOUR_CONTACTS only */
 } scene;
 
 typedef struct hit {
@@ -496,6 +498,12 @@ static void base_colour(const scene *S, vp_render_colour mode, uint32_t i, float
         double r = radius_of(S->p, i);
         double t = S->rmax > S->rmin ? (r - S->rmin) / (S->rmax - S->rmin) : 0.5;
         hsv(240.0 - 180.0 * t, 0.85, 0.85, out); /* blue (small) to yellow (large) */
+    } else if (mode == VP_COLOUR_CONTACTS) {
+        static const float zc[6][3] = {{0.45f, 0.45f, 0.45f}, {0.10f, 0.25f, 0.85f},
+                                       {0.05f, 0.65f, 0.75f}, {0.20f, 0.70f, 0.15f},
+                                       {0.90f, 0.75f, 0.05f}, {0.85f, 0.12f, 0.08f}};
+        unsigned z = S->contacts ? S->contacts[i] : 0;
+        memcpy(out, zc[z < 4 ? 0 : z > 8 ? 5 : z - 3], 3 * sizeof(float));
     } else {
         uint64_t x = mix64(i);
         hsv((double)(x % 360), 0.55 + 0.3 * (double)((x >> 16) % 100) / 100.0, 0.85, out);
@@ -586,6 +594,69 @@ static void render_chunk(void *user, size_t i) {
         for (int x = 0; x < J->C->w; x++) shade_pixel(J, x, y);
 }
 
+/* ---- contacts (VP_COLOUR_CONTACTS) -------------------------------------- */
+
+#define CONTACT_GAP 1e-4 /* of r_i + r_j: the jam packer's contact */
+
+typedef struct contact_q {
+    const vp_particles *p;
+    uint8_t *z;
+    size_t i;
+} contact_q;
+
+static int contact_visit(void *user, uint32_t j) {
+    contact_q *q = user;
+    if (j <= q->i) return 0; /* each pair once */
+    const double *a = q->p->positions + 3 * q->i, *b = q->p->positions + 3 * (size_t)j;
+    double e = radius_of(q->p, q->i) + radius_of(q->p, j);
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    if (sqrt(dx * dx + dy * dy + dz * dz) - e < CONTACT_GAP * e) {
+        if (q->z[q->i] < 255) q->z[q->i]++;
+        if (q->z[j] < 255) q->z[j]++;
+    }
+    return 0;
+}
+
+/* S->contacts: each sphere's count of touching neighbours, over the whole
+ * set (a cut does not change them). Owned by S. */
+static vp_result count_contacts(vp_context *ctx, scene *S) {
+    const vp_particles *p = S->p;
+    size_t n = p->count;
+    if (p->shape != VP_SHAPE_SPHERE)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "render: --colour contacts is for sphere packings only");
+    S->contacts = calloc(n ? n : 1, 1);
+    if (!S->contacts) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    if (n < 2) return VP_OK;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    double rmin = HUGE_VAL, rmax = 0;
+    for (size_t i = 0; i < n; i++) {
+        double r = radius_of(p, i);
+        if (r < rmin) rmin = r;
+        if (r > rmax) rmax = r;
+        for (int k = 0; k < 3; k++) {
+            double c = p->positions[3 * i + k];
+            if (c < lo[k]) lo[k] = c;
+            if (c > hi[k]) hi[k] = c;
+        }
+    }
+    vp_sgrid g;
+    if (!(rmin > 0) || vp_sgrid_init(&g, lo, hi, rmin, rmax, 2 * n + 4096) != 0)
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory for the contacts");
+    vp_result res = VP_OK;
+    for (size_t i = 0; i < n && res == VP_OK; i++)
+        if (vp_sgrid_insert(&g, (uint32_t)i, p->positions + 3 * i, radius_of(p, i)) != 0)
+            res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory for the contacts");
+    contact_q q = {p, S->contacts, 0};
+    for (size_t i = 0; i < n && res == VP_OK; i++) {
+        q.i = i;
+        double reach = radius_of(p, i) * (1.0 + CONTACT_GAP) + rmax * CONTACT_GAP;
+        vp_sgrid_query(&g, p->positions + 3 * i, reach, contact_visit, &q);
+    }
+    vp_sgrid_free(&g);
+    return res;
+}
+
 vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_params *params,
                     vp_image **out) {
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "vp_render: out is NULL");
@@ -605,7 +676,7 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
                        "render: field of view %g degrees out of range (0.1..179)",
                        rp.fov_degrees);
     if (rp.view < VP_VIEW_ISO || rp.view > VP_VIEW_CAMERA || rp.colour < VP_COLOUR_PASS ||
-        rp.colour > VP_COLOUR_ID || rp.cut_axis < -1 || rp.cut_axis > 2 ||
+        rp.colour > VP_COLOUR_CONTACTS || rp.cut_axis < -1 || rp.cut_axis > 2 ||
         (rp.cut_axis >= 0 && !isfinite(rp.cut_value)) || rp.ao_samples < 0 ||
         rp.ao_samples > 64)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "render: invalid view, colour, cut or "
@@ -644,6 +715,7 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
     vp_result r = scene_build(ctx, &S, limit - img_bytes);
     vp_image *img = NULL;
     if (r != VP_OK) goto done;
+    if (rp.colour == VP_COLOUR_CONTACTS && (r = count_contacts(ctx, &S)) != VP_OK) goto done;
 
     camera C;
     if ((r = camera_setup(ctx, &S, &rp, &C)) != VP_OK) goto done;
@@ -692,5 +764,6 @@ done:
     vp_image_destroy(img);
     free(S.cell_start);
     free(S.refs);
+    free(S.contacts);
     return r;
 }

@@ -136,5 +136,6 @@ def test_ctrl_c_cancels_a_long_pack(tmp_path):
     assert rc == -signal.SIGINT, (rc, err)
     assert err.rstrip().splitlines()[-1] == "KeyboardInterrupt", err
     assert "finished" not in proc.stdout.read()
-    assert took < 5, took
+    # generous: the machine may be busy; "never" is the 30 s timeout above
+    assert took < 20, took
     assert list(tmp_path.iterdir()) == []

@@ -170,3 +170,46 @@ def test_the_cli_refuses_what_python_refuses(tmp_path, cli):
                 "-o", out, check=False)
     assert r.returncode == 1 and "times the container's volume" in r.stderr
     assert not out.exists()
+
+
+# the palette of render --colour contacts (src/render/render.c), by class:
+# fewer than 4, 4, 5, 6, 7, 8 or more touching neighbours
+CONTACT_PALETTE = np.array([[0.45, 0.45, 0.45], [0.10, 0.25, 0.85], [0.05, 0.65, 0.75],
+                            [0.20, 0.70, 0.15], [0.90, 0.75, 0.05], [0.85, 0.12, 0.08]])
+
+
+def test_render_colours_by_contacts():
+    """Each visible sphere's colour is its class of touching neighbours,
+    counted here by numpy (gap below 1e-4 of r_i + r_j): pixels whose 3x3
+    neighbourhood shows one particle, compared by chromaticity (the light
+    scales the colour, not its hue)."""
+    p = vdbpack.pack("box:1,1,1", method="jam", count=400, seed=5)
+    P = np.asarray(p.positions, np.float64)
+    r = np.asarray(p.radii, np.float64)
+    i, j = np.triu_indices(len(P), 1)
+    e = r[i] + r[j]
+    touch = np.linalg.norm(P[i] - P[j], axis=1) - e < 1e-4 * e
+    z = np.bincount(i[touch], minlength=len(P)) + np.bincount(j[touch], minlength=len(P))
+    assert z.max() >= 6 and (z < 4).any(), np.bincount(z)
+    cls = np.clip(z - 3, 0, 5)
+    img = p.render(size=(320, 240), colour="contacts", cut="z:0", ao=0)
+    ids = img.id.astype(np.int64)
+    core = ids[1:-1, 1:-1]
+    same = np.ones(core.shape, bool)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            same &= ids[1 + dy:ids.shape[0] - 1 + dy, 1 + dx:ids.shape[1] - 1 + dx] == core
+    same &= core != 0xFFFFFFFF
+    rgb = img.rgba[1:-1, 1:-1, :3][same].astype(np.float64)
+    lit = rgb.sum(axis=1) > 0.05
+    rgb, pid = rgb[lit], core[same][lit]
+    assert len(pid) > 2000, len(pid)
+    chroma = rgb / rgb.sum(axis=1, keepdims=True)
+    pal = CONTACT_PALETTE / CONTACT_PALETTE.sum(axis=1, keepdims=True)
+    nearest = np.argmin(((chroma[:, None, :] - pal[None, :, :]) ** 2).sum(axis=2), axis=1)
+    order = np.argsort(np.asarray(p.ids))
+    want = cls[order[np.searchsorted(np.asarray(p.ids)[order], pid)]]
+    agree = (nearest == want).mean()
+    # several classes are on screen, and the colours say which
+    assert len(np.unique(want)) >= 3, np.unique(want)
+    assert agree > 0.99, agree
