@@ -4,7 +4,6 @@ sizing the in-memory container for the job, and running loading, packing
 and checking in a background thread with progress and cancellation.
 Nothing here touches bpy, so the job may run outside Blender's main
 thread; the operators copy the mesh out before and build objects after."""
-import ctypes
 import os
 import sys
 import tempfile
@@ -50,68 +49,10 @@ def load_vdbpack(module_dir="", library=""):
 def container_sizing(vp, method, kw):
     """The level-set parameters (particle_radius, particle_count,
     space_per_particle, narrow_band) that vdbpack.pack() would give a mesh
-    file for this job, as keywords for Container.from_mesh: the library's
-    own vp_container_params_for_<method> over the job's parameters, so that
-    a mesh handed over in memory gives the particles its file would.
-
-    Uses vdbpack.container_params(method, **kw) when the module has it;
-    until then the module's private structs (tests/blender compares the
-    result with vdbpack.pack on the same mesh as a file)."""
-    public = getattr(vp, "container_params", None)
-    if public is not None:
-        return public(method, **kw)
-    from vdbpack import _lib, _pack
-    lib = _lib.lib
-    shape = kw.get("shape", "sphere")
-    shape_id = _lib.SHAPES.index(shape) if isinstance(shape, str) and shape in _lib.SHAPES \
-        else _lib.VP_SHAPE_MESH
-    keep = []
-    if method == "lattice":
-        params = _lib.vp_lattice_params()
-        lib.vp_lattice_params_init(ctypes.byref(params))
-        lat = _lib.LATTICES[kw["lattice"]] if "lattice" in kw else _lib.VP_LATTICE_DEFAULT
-        if shape_id == 0 and lat == _lib.VP_LATTICE_DENSEST:
-            lat = _lib.VP_LATTICE_FCC
-        params.shape, params.lattice = shape_id, lat
-        if "radius" in kw:
-            params.radius = float(kw["radius"])
-        else:
-            params.count = int(kw["count"])
-    elif method == "rsa":
-        passes = kw["passes"]
-        arr = (_lib.vp_rsa_pass * len(passes))()
-        for k, p in enumerate(passes):
-            arr[k] = _pack._rsa_pass(p, k, 0)
-        keep.append(arr)
-        params = _lib.vp_rsa_params()
-        lib.vp_rsa_params_init(ctypes.byref(params))
-        params.shape, params.passes, params.npasses = shape_id, arr, len(passes)
-    else:
-        # relax, and any later sphere packer of the same kind (count, a
-        # radius distribution, target_fraction) whose structs _lib mirrors
-        cls = getattr(_lib, "vp_%s_params" % method, None)
-        init = getattr(lib, "vp_%s_params_init" % method, None)
-        if cls is None or init is None:
-            raise ValueError("this add-on cannot size a mesh container for method '%s' with "
-                             "this vdbpack module (it needs vdbpack.container_params)" % method)
-        params = cls()
-        init(ctypes.byref(params))
-        params.radius = _pack._size_dist(kw["radius"], "radius")
-        params.count = int(kw.get("count", 0))
-        if "target_fraction" in kw:
-            params.target_fraction = float(kw["target_fraction"])
-    cp = _lib.vp_container_params()
-    lib.vp_container_params_init(ctypes.byref(cp))
-    getattr(lib, "vp_container_params_for_" + method)(ctypes.byref(cp), ctypes.byref(params))
-    del keep
-    out = {"narrow_band": bool(cp.narrow_band)}
-    if cp.particle_radius > 0:
-        out["particle_radius"] = cp.particle_radius
-    if cp.particle_count:
-        out["particle_count"] = cp.particle_count
-    if cp.space_per_particle > 0:
-        out["space_per_particle"] = cp.space_per_particle
-    return out
+    file for this job, as keywords for Container.from_mesh: the module's
+    vdbpack.container_params, so that a mesh handed over in memory gives
+    the particles its file would (tests/python/test_container_params.py)."""
+    return vp.container_params(method, **kw)
 
 
 # -- reading the unit shape back ---------------------------------------------

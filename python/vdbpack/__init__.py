@@ -20,7 +20,7 @@ from ._errors import (Error, InvalidArgumentError, FileError, FormatError, OpenM
                       CancelledError, InternalError)
 from ._container import Container, MeshShape
 from ._packing import Packing, Image, Report, read
-from ._pack import pack
+from ._pack import pack, container_params
 
 __version__ = _VERSION
 
@@ -39,7 +39,8 @@ def library_path():
 
 
 __all__ = [
-    "Container", "MeshShape", "Packing", "Image", "Report", "pack", "read", "version",
+    "Container", "MeshShape", "Packing", "Image", "Report", "pack", "container_params", "read",
+    "version",
     "library_path", "Error", "InvalidArgumentError", "FileError", "FormatError",
     "OpenMeshError", "NotLevelSetError", "BadContainerError", "NoFitError",
     "OutOfMemoryError", "CancelledError", "InternalError", "SHAPES", "METHODS",

@@ -177,43 +177,11 @@ def _call_text(container, method, options):
     return "vdbpack.pack(%s)" % ", ".join(args)
 
 
-def pack(container, method="lattice", **options):
-    """Fills a container with particles; returns a Packing.
-
-    container: a Container, or a path to a mesh or .vdb level set, or
-    'box:X,Y,Z' / 'sphere:R' (centred at the origin; a file of that name
-    wins), which pack() loads itself exactly as `vdbpack pack` does, so
-    that the same options give the command line's particles.
-
-    method: "lattice" (default), "rsa" (random sequential addition, in
-    passes), "relax" (relaxation, spheres) or "jam" (spheres compressed
-    to the jamming point: random close packing, docs/jam.md).
-
-    Options (as `vdbpack pack --help`; None means not given):
-
-    - all methods: shape ("sphere" default, "tetrahedron", "cube",
-      "octahedron", "dodecahedron", "icosahedron", a closed mesh file or a
-      MeshShape (rsa)), fit ("inside" default, or "center"), seed (1),
-      threads (default all cores; results do not depend on it),
-      max_memory (bytes or "8G"), progress (callable(fraction, stage);
-      returning False cancels: CancelledError);
-    - a container given as a path: voxel_size, inside ("auto", "closed",
-      "winding"), iso, grid;
-    - lattice: radius or count, lattice ("sc", "bcc", "fcc", "hcp",
-      "densest"), offsets, rotate, rotations;
-    - rsa: passes (a list of dicts with count (N or "max"), radius (a
-      number or a distribution string), retries, grow, name; or the command
-      line's 'count=N,radius=R,grow' texts), or for one pass radius with
-      count (N or "max") and grow; retries; orient ("random", "fixed") and
-      overlap ("exact", "bbox") for solids;
-    - relax: radius (a number or a distribution), count, target_fraction,
-      tolerance, max_sweeps;
-    - jam: count=N, or radius with target_fraction (default 0.64) for the
-      number; radius (a number or a distribution) sets the radii's shape,
-      their scale is the jamming point's (without radius: equal spheres);
-      tolerance (the largest overlap / (r_i + r_j) allowed, default 1e-6).
-      The report adds mean_contacts, rattler_fraction, core_fraction, ...
-    """
+def _prepare(method, options):
+    """pack()'s options checked (as the command line's
+    check_method_options) and turned into the method's parameter struct:
+    a dict of the names pack() goes on with (params, keep: what params
+    points to, given, fit, seed, shape_opt, shape_id, ...)."""
     if not isinstance(method, str) or method not in METHODS:
         raise ValueError("unknown method %r (lattice, rsa, relax, jam)" % (method,))
     for k in options:
@@ -406,6 +374,76 @@ def pack(container, method="lattice", **options):
         if "max_sweeps" in given:
             xp.max_sweeps = _arrays.whole(given["max_sweeps"], "max_sweeps", 0, (1 << 31) - 1)
         params, keep = xp, []
+    return locals()
+
+
+def container_params(method="lattice", **options):
+    """The level-set parameters that pack() gives a mesh or .vdb container
+    file for this job (the library's vp_container_params_for_<method> over
+    the job's parameters), as keywords for Container.from_mesh or
+    Container.from_file: particle_radius, particle_count,
+    space_per_particle (those that apply) and narrow_band. A mesh handed
+    over in memory with them gives the particles its file would. Options as
+    pack()'s (those for loading a file, progress and threads are ignored)."""
+    j = _prepare(method, {k: v for k, v in options.items() if k not in _LOAD})
+    params = j["params"]
+    if method == "rsa" and j["shape_id"] is None:
+        params.shape = _lib.VP_SHAPE_MESH
+    cp = _lib.vp_container_params()
+    lib.vp_container_params_init(ctypes.byref(cp))
+    getattr(lib, "vp_container_params_for_" + method)(ctypes.byref(cp), ctypes.byref(params))
+    out = {"narrow_band": bool(cp.narrow_band)}
+    if cp.particle_radius > 0:
+        out["particle_radius"] = cp.particle_radius
+    if cp.particle_count:
+        out["particle_count"] = cp.particle_count
+    if cp.space_per_particle > 0:
+        out["space_per_particle"] = cp.space_per_particle
+    return out
+
+
+def pack(container, method="lattice", **options):
+    """Fills a container with particles; returns a Packing.
+
+    container: a Container, or a path to a mesh or .vdb level set, or
+    'box:X,Y,Z' / 'sphere:R' (centred at the origin; a file of that name
+    wins), which pack() loads itself exactly as `vdbpack pack` does, so
+    that the same options give the command line's particles.
+
+    method: "lattice" (default), "rsa" (random sequential addition, in
+    passes), "relax" (relaxation, spheres) or "jam" (spheres compressed
+    to the jamming point: random close packing, docs/jam.md).
+
+    Options (as `vdbpack pack --help`; None means not given):
+
+    - all methods: shape ("sphere" default, "tetrahedron", "cube",
+      "octahedron", "dodecahedron", "icosahedron", a closed mesh file or a
+      MeshShape (rsa)), fit ("inside" default, or "center"), seed (1),
+      threads (default all cores; results do not depend on it),
+      max_memory (bytes or "8G"), progress (callable(fraction, stage);
+      returning False cancels: CancelledError);
+    - a container given as a path: voxel_size, inside ("auto", "closed",
+      "winding"), iso, grid;
+    - lattice: radius or count, lattice ("sc", "bcc", "fcc", "hcp",
+      "densest"), offsets, rotate, rotations;
+    - rsa: passes (a list of dicts with count (N or "max"), radius (a
+      number or a distribution string), retries, grow, name; or the command
+      line's 'count=N,radius=R,grow' texts), or for one pass radius with
+      count (N or "max") and grow; retries; orient ("random", "fixed") and
+      overlap ("exact", "bbox") for solids;
+    - relax: radius (a number or a distribution), count, target_fraction,
+      tolerance, max_sweeps;
+    - jam: count=N, or radius with target_fraction (default 0.64) for the
+      number; radius (a number or a distribution) sets the radii's shape,
+      their scale is the jamming point's (without radius: equal spheres);
+      tolerance (the largest overlap / (r_i + r_j) allowed, default 1e-6).
+      The report adds mean_contacts, rattler_fraction, core_fraction, ...
+    """
+    j = _prepare(method, options)
+    given, threads, max_memory, progress = j["given"], j["threads"], j["max_memory"], j["progress"]
+    fit, seed, shape_opt, shape_id = j["fit"], j["seed"], j["shape_opt"], j["shape_id"]
+    params, keep, label = j["params"], j["keep"], j.get("label")
+    has_radius, orient, overlap, mesh = j["has_radius"], j["orient"], j["overlap"], None
 
     # -- the particle shape first: a bad shape file fails before a long
     # voxelization (as the command line)
