@@ -226,7 +226,7 @@ static void fill_moments(vp_winding *w) {
             double dc[3];
             for (int j = 0; j < 3; j++) dc[j] = (t[j] + t[3 + j] + t[6 + j]) / 3.0 - c[j];
             for (int j = 0; j < 3; j++)
-                for (int k = 0; k < 3; k++) mm[3 * j + k] += x[j] * dc[k];
+                for (int q = 0; q < 3; q++) mm[3 * j + q] += x[j] * dc[q];
         }
         memcpy(nd->m, mm, sizeof mm);
         double r2 = 0;
@@ -529,6 +529,25 @@ static void cross_triangle(const double *T, int a, const double lo[3], double h,
         }
 }
 
+/* 1 when a tree node's bounding ball meets the box [lo, hi]. */
+static int ball_meets_box(const wnode *nd, const double lo[3], const double hi[3]) {
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double x = nd->c[k] < lo[k] ? lo[k] - nd->c[k] : nd->c[k] > hi[k] ? nd->c[k] - hi[k] : 0;
+        d2 += x * x;
+    }
+    return d2 <= nd->r * nd->r;
+}
+
+/* 1 when the box of triangle T's corners meets the box [lo, hi]. */
+static int tri_box_meets_box(const double *T, const double lo[3], const double hi[3]) {
+    for (int k = 0; k < 3; k++)
+        if (!(fmin(T[k], fmin(T[3 + k], T[6 + k])) <= hi[k] &&
+              fmax(T[k], fmax(T[3 + k], T[6 + k])) >= lo[k]))
+            return 0;
+    return 1;
+}
+
 /* The triangles whose corners' box meets the box [lo, hi]: their indices
  * (in tree order) into *out, grown as needed. Returns the count, or -1
  * when out of memory. */
@@ -540,24 +559,14 @@ static long near_box(const vp_winding *w, const double lo[3], const double hi[3]
     stack[top++] = 0;
     while (top) {
         const wnode *nd = &w->node[stack[--top]];
-        double d2 = 0; /* ball to box */
-        for (int k = 0; k < 3; k++) {
-            double x = nd->c[k] < lo[k] ? lo[k] - nd->c[k] : nd->c[k] > hi[k] ? nd->c[k] - hi[k] : 0;
-            d2 += x * x;
-        }
-        if (d2 > nd->r * nd->r) continue;
+        if (!ball_meets_box(nd, lo, hi)) continue;
         if (nd->left) {
             stack[top++] = nd->left + 1;
             stack[top++] = nd->left;
             continue;
         }
         for (uint32_t i = 0; i < nd->count; i++) {
-            const double *T = w->tri + 9 * (size_t)(nd->first + i);
-            int meets = 1;
-            for (int k = 0; k < 3 && meets; k++)
-                meets = fmin(T[k], fmin(T[3 + k], T[6 + k])) <= hi[k] &&
-                        fmax(T[k], fmax(T[3 + k], T[6 + k])) >= lo[k];
-            if (!meets) continue;
+            if (!tri_box_meets_box(w->tri + 9 * (size_t)(nd->first + i), lo, hi)) continue;
             if (n == *cap) {
                 size_t nc = *cap ? 2 * *cap : 256;
                 uint32_t *nv = realloc(*out, nc * sizeof *nv);
@@ -592,13 +601,7 @@ static int rim_near(const vp_winding *w, const double lo[3], const double hi[3])
     stack[top++] = 0;
     while (top) {
         const wnode *nd = &w->node[stack[--top]];
-        if (!nd->rims) continue;
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double x = nd->c[k] < lo[k] ? lo[k] - nd->c[k] : nd->c[k] > hi[k] ? nd->c[k] - hi[k] : 0;
-            d2 += x * x;
-        }
-        if (d2 > nd->r * nd->r) continue;
+        if (!nd->rims || !ball_meets_box(nd, lo, hi)) continue;
         if (nd->left) {
             stack[top++] = nd->left + 1;
             stack[top++] = nd->left;
@@ -606,12 +609,7 @@ static int rim_near(const vp_winding *w, const double lo[3], const double hi[3])
         }
         for (uint32_t i = 0; i < nd->count; i++) {
             if (!w->rim[nd->first + i]) continue;
-            const double *T = w->tri + 9 * (size_t)(nd->first + i);
-            int meets = 1;
-            for (int k = 0; k < 3 && meets; k++)
-                meets = fmin(T[k], fmin(T[3 + k], T[6 + k])) <= hi[k] &&
-                        fmax(T[k], fmax(T[3 + k], T[6 + k])) >= lo[k];
-            if (meets) return 1;
+            if (tri_box_meets_box(w->tri + 9 * (size_t)(nd->first + i), lo, hi)) return 1;
         }
     }
     return 0;
