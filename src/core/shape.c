@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -102,7 +103,8 @@ int vp_lattice_parse(const char *name, vp_lattice *out) {
 /* Polyhedra                                                           */
 
 static vp_polyhedron vp_polys[VP_SHAPE_COUNT];
-static pthread_once_t vp_polys_once = PTHREAD_ONCE_INIT;
+static atomic_int vp_polys_built[VP_SHAPE_COUNT];
+static pthread_mutex_t vp_polys_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* The orbit of seed points under the permutations of the coordinates
  * (even ones only, or all) and the sign changes that keep(parity of the
@@ -292,7 +294,7 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
                 for (int c = 0; c < 3; ++c) nn[c] /= len;
                 double d = vp_dot3(nn, P->verts[i]);
                 int above = 0, below = 0;
-                for (int m = 0; m < n; ++m) {
+                for (int m = 0; m < n && !(above && below); ++m) {
                     double t = vp_dot3(nn, P->verts[m]) - d;
                     if (t > eps) ++above;
                     if (t < -eps) ++below;
@@ -365,13 +367,19 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
     }
 }
 
-static void vp_build_all(void) {
-    for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; ++s) vp_build_poly((vp_shape)s, &vp_polys[s]);
-}
-
+/* Each solid is built on its first use (the hull of the 120-vertex ones
+ * costs milliseconds; a run needs one shape): double-checked under a lock,
+ * the flag published with release/acquire. */
 const vp_polyhedron *vp_shape_polyhedron(vp_shape s) {
     if ((int)s <= (int)VP_SHAPE_SPHERE || (int)s >= VP_SHAPE_COUNT) return NULL;
-    pthread_once(&vp_polys_once, vp_build_all);
+    if (!atomic_load_explicit(&vp_polys_built[s], memory_order_acquire)) {
+        pthread_mutex_lock(&vp_polys_lock);
+        if (!atomic_load_explicit(&vp_polys_built[s], memory_order_relaxed)) {
+            vp_build_poly(s, &vp_polys[s]);
+            atomic_store_explicit(&vp_polys_built[s], 1, memory_order_release);
+        }
+        pthread_mutex_unlock(&vp_polys_lock);
+    }
     return &vp_polys[s];
 }
 

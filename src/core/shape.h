@@ -37,7 +37,7 @@ typedef struct vp_polyhedron {
 } vp_polyhedron;
 
 /* The unit polyhedron of a solid; NULL for VP_SHAPE_SPHERE. Static storage,
- * thread-safe after the first call (built by a pthread_once). */
+ * built on the first call for that solid; thread-safe. */
 const vp_polyhedron *vp_shape_polyhedron(vp_shape s);
 
 /* 1 for the solids whose overlap the packers test by GJK on support
