@@ -80,7 +80,7 @@ static int has_vertex(const vp_polyhedron *p, double x, double y, double z) {
 
 static void test_polyhedra(void) {
     const double phi = 0.5 * (1 + sqrt(5.0));
-    for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; ++s) {
+    for (int s = VP_SHAPE_TETRAHEDRON; s <= VP_SHAPE_ICOSAHEDRON; ++s) { /* the Archimedean: test_archimedean.c */
         const vp_polyhedron *p = vp_shape_polyhedron((vp_shape)s);
         ASSERT_TRUE(p != NULL);
         ASSERT_TRUE(p == vp_shape_polyhedron((vp_shape)s));

@@ -10,7 +10,11 @@ shown greyed out with the reason."""
 
 import numpy as np
 
-SOLIDS = ("tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron")
+SOLIDS = ("tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron") + \
+    ("truncated-tetrahedron", "cuboctahedron", "truncated-cube", "truncated-octahedron",
+     "rhombicuboctahedron", "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
+     "truncated-dodecahedron", "truncated-icosahedron", "rhombicosidodecahedron",
+     "truncated-icosidodecahedron", "snub-dodecahedron")
 SHAPES = ("sphere",) + SOLIDS
 
 

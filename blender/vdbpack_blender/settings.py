@@ -16,6 +16,20 @@ SHAPE_ITEMS = [
     ("octahedron", "Octahedron", "Regular octahedra", 'MESH_ICOSPHERE', 3),
     ("dodecahedron", "Dodecahedron", "Regular dodecahedra", 'MESH_ICOSPHERE', 4),
     ("icosahedron", "Icosahedron", "Regular icosahedra", 'MESH_ICOSPHERE', 5),
+    ("truncated-tetrahedron", "Truncated Tetrahedron", "Archimedean solid: truncated tetrahedron", 'MESH_ICOSPHERE', 7),
+    ("cuboctahedron", "Cuboctahedron", "Archimedean solid: cuboctahedron", 'MESH_ICOSPHERE', 8),
+    ("truncated-cube", "Truncated Cube", "Archimedean solid: truncated cube", 'MESH_ICOSPHERE', 9),
+    ("truncated-octahedron", "Truncated Octahedron", "Archimedean solid: truncated octahedron", 'MESH_ICOSPHERE', 10),
+    ("rhombicuboctahedron", "Rhombicuboctahedron", "Archimedean solid: rhombicuboctahedron", 'MESH_ICOSPHERE', 11),
+    ("truncated-cuboctahedron", "Truncated Cuboctahedron", "Archimedean solid: truncated cuboctahedron", 'MESH_ICOSPHERE', 12),
+    ("snub-cube", "Snub Cube", "Archimedean solid: snub cube", 'MESH_ICOSPHERE', 13),
+    ("icosidodecahedron", "Icosidodecahedron", "Archimedean solid: icosidodecahedron", 'MESH_ICOSPHERE', 14),
+    ("truncated-dodecahedron", "Truncated Dodecahedron", "Archimedean solid: truncated dodecahedron", 'MESH_ICOSPHERE', 15),
+    ("truncated-icosahedron", "Truncated Icosahedron", "Archimedean solid: truncated icosahedron", 'MESH_ICOSPHERE', 16),
+    ("rhombicosidodecahedron", "Rhombicosidodecahedron", "Archimedean solid: rhombicosidodecahedron", 'MESH_ICOSPHERE', 17),
+    ("truncated-icosidodecahedron", "Truncated Icosidodecahedron", "Archimedean solid: truncated icosidodecahedron", 'MESH_ICOSPHERE', 18),
+    ("snub-dodecahedron", "Snub Dodecahedron", "Archimedean solid: snub dodecahedron", 'MESH_ICOSPHERE', 19),
+    # OBJECT keeps number 6 (saved .blend files store the numbers)
     ("OBJECT", "Mesh Object", "Any closed mesh object of the scene as the particle (Random "
      "method)", 'OBJECT_DATA', 6),
 ]

@@ -120,6 +120,20 @@ typedef enum vp_shape {
     VP_SHAPE_OCTAHEDRON,
     VP_SHAPE_DODECAHEDRON,
     VP_SHAPE_ICOSAHEDRON,
+    /* the 13 Archimedean solids (names in vp_shape_name: "truncated-cube"...) */
+    VP_SHAPE_TRUNCATED_TETRAHEDRON,
+    VP_SHAPE_CUBOCTAHEDRON,
+    VP_SHAPE_TRUNCATED_CUBE,
+    VP_SHAPE_TRUNCATED_OCTAHEDRON,
+    VP_SHAPE_RHOMBICUBOCTAHEDRON,
+    VP_SHAPE_TRUNCATED_CUBOCTAHEDRON,
+    VP_SHAPE_SNUB_CUBE,
+    VP_SHAPE_ICOSIDODECAHEDRON,
+    VP_SHAPE_TRUNCATED_DODECAHEDRON,
+    VP_SHAPE_TRUNCATED_ICOSAHEDRON,
+    VP_SHAPE_RHOMBICOSIDODECAHEDRON,
+    VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON,
+    VP_SHAPE_SNUB_DODECAHEDRON,
     VP_SHAPE_COUNT,        /* the number of built-in shapes above */
     VP_SHAPE_MESH = 64,    /* a closed mesh from a file (vp_mesh_shape) */
     VP_SHAPE_SUPERBALL = 65 /* |x|^2p + |y|^2p + |z|^2p <= 1, convex (0.5 <= p <=

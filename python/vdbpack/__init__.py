@@ -14,7 +14,7 @@ The library is found through $VDBPACK_LIBRARY (a path; when set, the only
 one tried), else the path the build or installation wrote into
 _libpath.py, else ctypes.util.find_library("vdbpack").
 """
-from ._lib import LIBRARY_PATH as _LIBRARY_PATH, VERSION as _VERSION
+from ._lib import LIBRARY_PATH as _LIBRARY_PATH, VERSION as _VERSION, SHAPES as _SHAPES
 from ._errors import (Error, InvalidArgumentError, FileError, FormatError, OpenMeshError,
                       NotLevelSetError, BadContainerError, NoFitError, OutOfMemoryError,
                       CancelledError, InternalError)
@@ -24,7 +24,7 @@ from ._pack import pack, container_params
 
 __version__ = _VERSION
 
-SHAPES = ("sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron")
+SHAPES = _SHAPES
 METHODS = ("lattice", "rsa", "relax", "jam")
 
 

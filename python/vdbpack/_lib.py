@@ -83,7 +83,12 @@ VP_ERR_INVALID_ARGUMENT = 1
 VP_ERR_CANCELLED = 9
 VP_ERR_INTERNAL = 10
 
-SHAPES = ("sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron")
+# vp_shape order: the platonic solids, then the 13 Archimedean ones
+SHAPES = ("sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron") + \
+    ("truncated-tetrahedron", "cuboctahedron", "truncated-cube", "truncated-octahedron",
+     "rhombicuboctahedron", "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
+     "truncated-dodecahedron", "truncated-icosahedron", "rhombicosidodecahedron",
+     "truncated-icosidodecahedron", "snub-dodecahedron")
 VP_SHAPE_SPHERE = 0
 VP_SHAPE_MESH = 64
 LATTICES = {"sc": 1, "bcc": 2, "fcc": 3, "hcp": 4, "densest": 5}

@@ -146,8 +146,9 @@ int vp_cli_convert(int argc, char **argv) {
         return vp_cli_die(2, "convert: --shape '%s': a superball's exponent P (superball:P) must "
                              "be a number in [0.5, 1000]", shape_name);
     if (sr != 0 || shape == VP_SHAPE_MESH)
-        return vp_cli_die(2, "convert: unknown --shape '%s' (sphere, tetrahedron, cube, octahedron, "
-                             "dodecahedron, icosahedron, superball:P)", shape_name);
+        return vp_cli_die(2, "convert: unknown --shape '%s' (sphere, a platonic or Archimedean "
+                             "solid such as cube or truncated-octahedron (vdbpack pack --help "
+                             "lists them), superball:P)", shape_name);
     vp_format in_fmt = vp_format_from_path(in);
     if (in_fmt == VP_FORMAT_UNKNOWN || in_fmt == VP_FORMAT_OBJ)
         return vp_cli_die(2, "convert: cannot read '%s': the input must be .vdb, .ply or .csv", in);

@@ -272,8 +272,9 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             if (sr != 0) {
                 /* not a built-in name: a mesh file, when it looks like one */
                 if (!strchr(v, '.') && !strchr(v, '/'))
-                    return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, tetrahedron, cube, "
-                                         "octahedron, dodecahedron, icosahedron, superball:P, "
+                    return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, a platonic or "
+                                         "Archimedean solid such as cube or truncated-octahedron "
+                                         "(vdbpack pack --help lists them), superball:P, "
                                          "or a closed mesh file such as shape.obj)", v);
                 o->shape = VP_SHAPE_MESH;
                 o->shape_file = v;

@@ -6,6 +6,7 @@
  * contact and the packing fraction of every (shape, lattice) pair. */
 #include "core/lattice_basis.h"
 #include "core/geom.h"
+#include "core/shape.h"
 #include "core/superball.h"
 
 #include <math.h>
@@ -134,6 +135,34 @@ static void solid_basis(vp_shape s, vp_lattice_basis *b) {
     }
 }
 
+/* Dense lattice packings of the Archimedean solids, at circumradius 1 in
+ * the orientations of shape.c, found by scripts/archimedean_lattices.py (a
+ * numeric search for the critical lattice of the difference body, polished
+ * on its contact set; docs/lattices.md) and rescaled there to contact. The
+ * fraction is computed from the basis; tests/test_archimedean.c checks it
+ * against Betke & Henk 2000 and the absence of overlaps. */
+typedef struct arch_basis {
+    vp_shape shape;
+    double a[3][3];
+} arch_basis;
+
+static const arch_basis arch_bases[] = {
+#include "core/lattice_archimedean.inc"
+};
+
+static int archimedean_basis(vp_shape s, vp_lattice_basis *b) {
+    for (size_t i = 0; i < sizeof arch_bases / sizeof arch_bases[0]; ++i)
+        if (arch_bases[i].shape == s) {
+            set_rows(b, 1.0, arch_bases[i].a);
+            b->fraction = vp_shape_unit_volume(s) / fabs(vp_det3(b->a[0], b->a[1], b->a[2]));
+            b->name = "dense Archimedean lattice";
+            b->source = "numeric critical-lattice search (scripts/archimedean_lattices.py); "
+                        "Betke & Henk 2000 densities";
+            return 0;
+        }
+    return -1;
+}
+
 int vp_lattice_basis_get(vp_shape shape, vp_lattice lattice, vp_lattice_basis *out) {
     if (!out || (int)shape < 0 || (int)shape >= VP_SHAPE_COUNT) return -1;
     if ((int)lattice < (int)VP_LATTICE_DEFAULT || (int)lattice > (int)VP_LATTICE_DENSEST) return -1;
@@ -144,7 +173,11 @@ int vp_lattice_basis_get(vp_shape shape, vp_lattice lattice, vp_lattice_basis *o
         sphere_basis(lattice, &b);
     } else {
         if (lattice != VP_LATTICE_DEFAULT && lattice != VP_LATTICE_DENSEST) return -1;
-        solid_basis(shape, &b);
+        if ((int)shape > (int)VP_SHAPE_ICOSAHEDRON) {
+            if (archimedean_basis(shape, &b) != 0) return -1;
+        } else {
+            solid_basis(shape, &b);
+        }
     }
     /* all bases are stored right-handed; keep it that way */
     if (vp_det3(b.a[0], b.a[1], b.a[2]) < 0) {

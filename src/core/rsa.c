@@ -112,9 +112,12 @@ typedef struct rsa {
                              tests, so what is tested is what is stored */
     double base[3];       /* the container's box centre */
     vp_sgrid g;
-    const vp_polyhedron *poly; /* a platonic solid, or NULL */
+    const vp_polyhedron *poly; /* a platonic or Archimedean solid, or NULL */
     const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
     double sb;            /* a superball's exponent, or 0 */
+    int gjk;              /* superballs and the Archimedean solids: GJK on support
+                             functions (vp_convex); platonic solids: the SAT */
+    vp_shape shape;
     int solid;            /* poly or mesh: not spheres */
     double rin;           /* insphere / bounding-sphere radius (1 for spheres):
                              two particles whose centres are closer than
@@ -370,13 +373,13 @@ static int solid_exact(solid_query *w, uint32_t j) {
         vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     }
     if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, cand_quat(w), w->x, rj, qj, c, NULL);
-    if (s->sb > 0) {
+    if (s->gjk) {
         if (!w->posed) { /* the candidate's support, posed once */
-            vp_convex_set(&w->cand_sb, VP_SHAPE_SUPERBALL, s->sb, w->r, cand_quat(w), w->x, w->x);
+            vp_convex_set(&w->cand_sb, s->shape, s->sb, w->r, cand_quat(w), w->x, w->x);
             w->posed = 1;
         }
         vp_convex o;
-        vp_convex_set(&o, VP_SHAPE_SUPERBALL, s->sb, rj, qj, c, w->x);
+        vp_convex_set(&o, s->shape, s->sb, rj, qj, c, w->x);
         return vp_convex_overlap(&w->cand_sb, &o);
     }
     /* the candidate is posed once for all its neighbours; both relative
@@ -1790,6 +1793,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.poly = vp_shape_polyhedron(params->shape);
     s.mesh = params->shape == VP_SHAPE_MESH ? params->mesh : NULL;
     s.sb = params->shape == VP_SHAPE_SUPERBALL ? params->shape_param : 0.0;
+    s.shape = params->shape;
+    s.gjk = s.sb > 0 || vp_shape_overlap_by_gjk(params->shape);
     s.solid = s.poly || s.mesh || s.sb > 0;
     {
         /* the solids' exact tests and the spheres' top balls allow for it */

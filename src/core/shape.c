@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Particle shapes: names, unit volumes, the five platonic solids as convex
- * polyhedra (circumradius 1, centroid at the origin) and the separating-axis
- * test. See shape.h and docs/lattices.md for the canonical orientations. */
+/* Particle shapes: names, unit volumes, the five platonic and the 13
+ * Archimedean solids as convex polyhedra (circumradius 1, centroid at the
+ * origin) and the separating-axis test. See shape.h and docs/lattices.md for the canonical orientations. */
 #include "core/shape.h"
 #include "core/geom.h"
 #include "core/mesh_shape.h"
@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -18,16 +19,23 @@
 /* Names                                                               */
 
 static const char *const vp_shape_names[VP_SHAPE_COUNT] = {
-    "sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron"};
+    "sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron",
+    "truncated-tetrahedron", "cuboctahedron", "truncated-cube", "truncated-octahedron",
+    "rhombicuboctahedron", "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
+    "truncated-dodecahedron", "truncated-icosahedron", "rhombicosidodecahedron",
+    "truncated-icosidodecahedron", "snub-dodecahedron"};
 
 static const char *const vp_lattice_names[] = {"default", "sc", "bcc", "fcc", "hcp", "densest"};
 #define VP_LATTICE_NAME_COUNT ((int)(sizeof vp_lattice_names / sizeof vp_lattice_names[0]))
 
+/* Case-insensitive, and '_' matches '-' (truncated_cube = truncated-cube). */
 static int vp_streq_nocase(const char *a, const char *b) {
     for (;; ++a, ++b) {
         int ca = (unsigned char)*a, cb = (unsigned char)*b;
         if (ca >= 'A' && ca <= 'Z') ca += 'a' - 'A';
         if (cb >= 'A' && cb <= 'Z') cb += 'a' - 'A';
+        if (ca == '_') ca = '-';
+        if (cb == '_') cb = '-';
         if (ca != cb) return 0;
         if (ca == 0) return 1;
     }
@@ -95,17 +103,52 @@ int vp_lattice_parse(const char *name, vp_lattice *out) {
 /* Polyhedra                                                           */
 
 static vp_polyhedron vp_polys[VP_SHAPE_COUNT];
-static pthread_once_t vp_polys_once = PTHREAD_ONCE_INIT;
+static atomic_int vp_polys_built[VP_SHAPE_COUNT];
+static pthread_mutex_t vp_polys_lock = PTHREAD_MUTEX_INITIALIZER;
 
-/* Canonical vertex sets (before scaling to circumradius 1):
+/* The orbit of seed points under the permutations of the coordinates
+ * (even ones only, or all) and the sign changes that keep(parity of the
+ * permutation, number of plus signs) accepts (NULL: all); duplicates (from
+ * zero coordinates) dropped. Appends to v[*n]; returns -1 past the cap. */
+typedef int (*vp_sign_rule)(int parity, int plus);
+static int rule_even_minus(int parity, int plus) { (void)parity; return (3 - plus) % 2 == 0; }
+static int rule_snub_cube(int parity, int plus) { return plus % 2 == parity; }
+static int rule_even_plus(int parity, int plus) { (void)parity; return plus % 2 == 0; }
+
+static int vp_orbit(const double (*seeds)[3], int nseeds, int even_only, vp_sign_rule keep,
+                    double v[VP_POLY_MAX_VERTS][3], int *n) {
+    static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+    for (int s = 0; s < nseeds; ++s)
+        for (int pi = 0; pi < (even_only ? 3 : 6); ++pi)
+            for (int sg = 0; sg < 8; ++sg) {
+                int plus = 3 - ((sg & 1) + ((sg >> 1) & 1) + ((sg >> 2) & 1));
+                if (keep && !keep(pi >= 3, plus)) continue;
+                double x[3];
+                for (int k = 0; k < 3; ++k) x[k] = ((sg >> k) & 1 ? -1.0 : 1.0) * seeds[s][perm[pi][k]];
+                int dup = 0;
+                for (int m = 0; m < *n && !dup; ++m)
+                    dup = fabs(v[m][0] - x[0]) + fabs(v[m][1] - x[1]) + fabs(v[m][2] - x[2]) < 1e-9;
+                if (dup) continue;
+                if (*n >= VP_POLY_MAX_VERTS) return -1;
+                memcpy(v[(*n)++], x, sizeof x);
+            }
+    return 0;
+}
+
+/* Canonical vertex sets (before scaling to circumradius 1); Φ = phi:
  *  tetrahedron  : alternate cube corners (1,1,1),(1,-1,-1),(-1,1,-1),(-1,-1,1)
  *  cube         : (+-1,+-1,+-1), axis aligned
  *  octahedron   : (+-1,0,0),(0,+-1,0),(0,0,+-1)
  *  dodecahedron : (+-1,+-1,+-1), (0,+-1/phi,+-phi) and its cyclic permutations
- *  icosahedron  : (0,+-1,+-phi) and its cyclic permutations */
+ *  icosahedron  : (0,+-1,+-phi) and its cyclic permutations
+ * The Archimedean solids: the usual coordinates (docs/lattices.md has the
+ * table), as orbits of seeds: all permutations and signs for the octahedral
+ * family, even (cyclic) permutations and all signs for the icosahedral one,
+ * with the sign rules of the truncated tetrahedron (even number of minus
+ * signs) and the snub solids (one chirality). */
 static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
-    const double phi = 0.5 * (1.0 + sqrt(5.0));
-    int n = 0;
+    const double phi = 0.5 * (1.0 + sqrt(5.0)), p = phi, r2 = sqrt(2.0);
+    int n = 0, rc = 0;
     switch (s) {
     case VP_SHAPE_TETRAHEDRON: {
         static const double t[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
@@ -129,20 +172,95 @@ static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
         }
         for (int c = 0; c < 3; ++c)
             for (int i = 0; i < 4; ++i, ++n) {
-                double p[3] = {0, ((i & 1) ? 1 : -1) / phi, ((i & 2) ? 1 : -1) * phi};
-                v[n][c] = p[0]; v[n][(c + 1) % 3] = p[1]; v[n][(c + 2) % 3] = p[2];
+                double q[3] = {0, ((i & 1) ? 1 : -1) / phi, ((i & 2) ? 1 : -1) * phi};
+                v[n][c] = q[0]; v[n][(c + 1) % 3] = q[1]; v[n][(c + 2) % 3] = q[2];
             }
         break;
     case VP_SHAPE_ICOSAHEDRON:
         for (int c = 0; c < 3; ++c)
             for (int i = 0; i < 4; ++i, ++n) {
-                double p[3] = {0, (i & 1) ? 1 : -1, ((i & 2) ? 1 : -1) * phi};
-                v[n][c] = p[0]; v[n][(c + 1) % 3] = p[1]; v[n][(c + 2) % 3] = p[2];
+                double q[3] = {0, (i & 1) ? 1 : -1, ((i & 2) ? 1 : -1) * phi};
+                v[n][c] = q[0]; v[n][(c + 1) % 3] = q[1]; v[n][(c + 2) % 3] = q[2];
             }
         break;
+    case VP_SHAPE_TRUNCATED_TETRAHEDRON: {
+        const double sd[1][3] = {{3, 1, 1}};
+        rc = vp_orbit(sd, 1, 0, rule_even_minus, v, &n);
+        break;
+    }
+    case VP_SHAPE_CUBOCTAHEDRON: {
+        const double sd[1][3] = {{1, 1, 0}};
+        rc = vp_orbit(sd, 1, 0, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_TRUNCATED_CUBE: {
+        const double sd[1][3] = {{r2 - 1, 1, 1}};
+        rc = vp_orbit(sd, 1, 0, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_TRUNCATED_OCTAHEDRON: {
+        const double sd[1][3] = {{0, 1, 2}};
+        rc = vp_orbit(sd, 1, 0, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_RHOMBICUBOCTAHEDRON: {
+        const double sd[1][3] = {{1, 1, 1 + r2}};
+        rc = vp_orbit(sd, 1, 0, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_TRUNCATED_CUBOCTAHEDRON: {
+        const double sd[1][3] = {{1, 1 + r2, 1 + 2 * r2}};
+        rc = vp_orbit(sd, 1, 0, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_SNUB_CUBE: { /* t: the tribonacci constant */
+        const double t = (1.0 + cbrt(19.0 + 3.0 * sqrt(33.0)) + cbrt(19.0 - 3.0 * sqrt(33.0))) / 3.0;
+        const double sd[1][3] = {{1, 1 / t, t}};
+        rc = vp_orbit(sd, 1, 0, rule_snub_cube, v, &n);
+        break;
+    }
+    case VP_SHAPE_ICOSIDODECAHEDRON: {
+        const double sd[2][3] = {{0, 0, p}, {0.5, p / 2, p * p / 2}};
+        rc = vp_orbit(sd, 2, 1, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_TRUNCATED_DODECAHEDRON: {
+        const double sd[3][3] = {{0, 1 / p, 2 + p}, {1 / p, p, 2 * p}, {p, 2, p + 1}};
+        rc = vp_orbit(sd, 3, 1, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_TRUNCATED_ICOSAHEDRON: {
+        const double sd[3][3] = {{0, 1, 3 * p}, {1, 2 + p, 2 * p}, {p, 2, p * p * p}};
+        rc = vp_orbit(sd, 3, 1, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_RHOMBICOSIDODECAHEDRON: {
+        const double sd[3][3] = {{1, 1, p * p * p}, {p * p, p, 2 * p}, {2 + p, 0, p * p}};
+        rc = vp_orbit(sd, 3, 1, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON: {
+        const double sd[5][3] = {{1 / p, 1 / p, 3 + p}, {2 / p, p, 1 + 2 * p},
+                                 {1 / p, p * p, 3 * p - 1}, {2 * p - 1, 2, 2 + p}, {p, 3, 2 * p}};
+        rc = vp_orbit(sd, 5, 1, NULL, v, &n);
+        break;
+    }
+    case VP_SHAPE_SNUB_DODECAHEDRON: { /* xi: the real root of xi^3 - 2 xi = phi */
+        double xi = 1.0;
+        for (int it = 0; it < 60; ++it) xi -= (xi * xi * xi - 2 * xi - p) / (3 * xi * xi - 2);
+        const double a = xi - 1 / xi, b = xi * p + p * p + p / xi;
+        const double sd[5][3] = {{2 * a, 2, 2 * b},
+                                 {a + b / p + p, -a * p + b + 1 / p, a / p + b * p - 1},
+                                 {a + b / p - p, a * p - b + 1 / p, a / p + b * p + 1},
+                                 {-a / p + b * p + 1, -a + b / p - p, a * p + b - 1 / p},
+                                 {-a / p + b * p - 1, a - b / p - p, a * p + b + 1 / p}};
+        rc = vp_orbit(sd, 5, 1, rule_even_plus, v, &n);
+        break;
+    }
     default:
         return 0;
     }
+    if (rc != 0) return 0;
     /* scale to circumradius 1 (all vertices are equidistant) */
     double r = vp_norm3(v[0]);
     for (int i = 0; i < n; ++i)
@@ -176,7 +294,7 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
                 for (int c = 0; c < 3; ++c) nn[c] /= len;
                 double d = vp_dot3(nn, P->verts[i]);
                 int above = 0, below = 0;
-                for (int m = 0; m < n; ++m) {
+                for (int m = 0; m < n && !(above && below); ++m) {
                     double t = vp_dot3(nn, P->verts[m]) - d;
                     if (t > eps) ++above;
                     if (t < -eps) ++below;
@@ -249,14 +367,24 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
     }
 }
 
-static void vp_build_all(void) {
-    for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; ++s) vp_build_poly((vp_shape)s, &vp_polys[s]);
-}
-
+/* Each solid is built on its first use (the hull of the 120-vertex ones
+ * costs milliseconds; a run needs one shape): double-checked under a lock,
+ * the flag published with release/acquire. */
 const vp_polyhedron *vp_shape_polyhedron(vp_shape s) {
     if ((int)s <= (int)VP_SHAPE_SPHERE || (int)s >= VP_SHAPE_COUNT) return NULL;
-    pthread_once(&vp_polys_once, vp_build_all);
+    if (!atomic_load_explicit(&vp_polys_built[s], memory_order_acquire)) {
+        pthread_mutex_lock(&vp_polys_lock);
+        if (!atomic_load_explicit(&vp_polys_built[s], memory_order_relaxed)) {
+            vp_build_poly(s, &vp_polys[s]);
+            atomic_store_explicit(&vp_polys_built[s], 1, memory_order_release);
+        }
+        pthread_mutex_unlock(&vp_polys_lock);
+    }
     return &vp_polys[s];
+}
+
+int vp_shape_overlap_by_gjk(vp_shape s) {
+    return (int)s >= (int)VP_SHAPE_TRUNCATED_TETRAHEDRON && (int)s < (int)VP_SHAPE_COUNT;
 }
 
 double vp_shape_unit_volume(vp_shape s) {

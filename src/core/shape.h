@@ -1,16 +1,22 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Particle shapes: the sphere and the five platonic solids, each scaled to
- * bounding-sphere (circum) radius 1 with its centroid at the origin, in the
- * canonical orientation that the lattice bases of lattice_basis.h assume.
- * A particle with pscale s and orient q occupies { s * rotate(q, x) + P }. */
+/* Particle shapes: the sphere, the five platonic and the 13 Archimedean
+ * solids, each scaled to bounding-sphere (circum) radius 1 with its centroid
+ * at the origin, in the canonical orientation that the lattice bases of
+ * lattice_basis.h assume. A particle with pscale s and orient q occupies
+ * { s * rotate(q, x) + P }. */
 #ifndef VDBPACK_CORE_SHAPE_H
 #define VDBPACK_CORE_SHAPE_H
 
 #include "vdbpack/vdbpack.h"
 
-#define VP_POLY_MAX_VERTS 20
-#define VP_POLY_MAX_FACES 20
-#define VP_POLY_MAX_FACE_VERTS 5
+/* Sized for the largest solids: 120 vertices and 180 edges (truncated
+ * icosidodecahedron), 92 faces (snub dodecahedron), decagons (truncated
+ * dodecahedron). The posed copy (vp_poly_posed) is the only per-test
+ * buffer; the loops run over the actual counts, not these caps. */
+#define VP_POLY_MAX_VERTS 120
+#define VP_POLY_MAX_FACES 92
+#define VP_POLY_MAX_FACE_VERTS 10
+#define VP_POLY_MAX_EDGES 180
 
 typedef struct vp_polyhedron {
     int nverts, nfaces;
@@ -19,7 +25,7 @@ typedef struct vp_polyhedron {
     int faces[VP_POLY_MAX_FACES][VP_POLY_MAX_FACE_VERTS]; /* counter-clockwise seen from outside */
     double normals[VP_POLY_MAX_FACES][3];                 /* outward unit face normals */
     int nedges;
-    int edges[30][2];                                     /* unique undirected edges */
+    int edges[VP_POLY_MAX_EDGES][2];                      /* unique undirected edges */
     double volume;     /* at circumradius 1 */
     double inradius;   /* at circumradius 1 */
     /* Helpers for the separating-axis test: face normals and edge
@@ -27,12 +33,18 @@ typedef struct vp_polyhedron {
      * solids have half as many as faces/edges). */
     int nface_dirs, nedge_dirs;
     double face_dirs[VP_POLY_MAX_FACES][3];
-    double edge_dirs[30][3];
+    double edge_dirs[VP_POLY_MAX_EDGES][3];
 } vp_polyhedron;
 
 /* The unit polyhedron of a solid; NULL for VP_SHAPE_SPHERE. Static storage,
- * thread-safe after the first call (built by a pthread_once). */
+ * built on the first call for that solid; thread-safe. */
 const vp_polyhedron *vp_shape_polyhedron(vp_shape s);
+
+/* 1 for the solids whose overlap the packers test by GJK on support
+ * functions (vp_convex_overlap, superball.h): the Archimedean solids, whose
+ * SAT would test up to 90 x 90 edge-pair axes (docs/lattices.md has the
+ * timings); 0 for the platonic ones, which keep the SAT. */
+int vp_shape_overlap_by_gjk(vp_shape s);
 
 /* Separating-axis test of two convex polyhedra placed at (scale, q, t):
  * returns the largest separation over the SAT axes (face normals of both,
@@ -50,7 +62,7 @@ typedef struct vp_poly_posed {
     int nverts, nface, nedge;
     double w[VP_POLY_MAX_VERTS][3];
     double f[VP_POLY_MAX_FACES][3];
-    double e[30][3];
+    double e[VP_POLY_MAX_EDGES][3];
 } vp_poly_posed;
 void vp_poly_pose(const vp_polyhedron *p, double scale, const double q[4], const double t[3],
                   const double o[3], vp_poly_posed *out);

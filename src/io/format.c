@@ -123,9 +123,13 @@ double vp_export_estimate_bytes(const vp_particles *p, vp_format format,
             return 0;
         }
         /* "v x y z" with %.9g (about 40 bytes), "f a b c" with indices of
-         * about log10(n * v) digits; pentagons have two more indices */
+         * about log10(n * v) digits, as many as the largest face has */
         double digits = ceil(log10(n * v + 10)) + 1;
-        double per_face = 2 + (p->shape == VP_SHAPE_DODECAHEDRON ? 5 : p->shape == VP_SHAPE_CUBE ? 4 : 3) * digits;
+        const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
+        int fmax = 3;
+        for (int k = 0; poly && k < poly->nfaces; k++)
+            if (poly->face_size[k] > fmax) fmax = poly->face_size[k];
+        double per_face = 2 + fmax * digits;
         return 1024 + n * (v * 40.0 + f * per_face);
     }
     default: return 0;

@@ -19,7 +19,7 @@
 typedef struct unit_mesh {
     int nv, nf;
     double (*v)[3];
-    int (*f)[5];
+    int (*f)[VP_POLY_MAX_FACE_VERTS];
     int *fsize;
 } unit_mesh;
 

@@ -17,8 +17,15 @@ namespace vp = openvdb::points;
 
 namespace {
 
+// vp_shape_name()'s names: this layer links none of the core (tests/sh_layers.sh).
 const char *const kShapeNames[] = {"sphere", "tetrahedron", "cube", "octahedron", "dodecahedron",
-                                   "icosahedron"};
+                                   "icosahedron", "truncated-tetrahedron", "cuboctahedron",
+                                   "truncated-cube", "truncated-octahedron", "rhombicuboctahedron",
+                                   "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
+                                   "truncated-dodecahedron", "truncated-icosahedron",
+                                   "rhombicosidodecahedron", "truncated-icosidodecahedron",
+                                   "snub-dodecahedron"};
+static_assert(sizeof kShapeNames / sizeof kShapeNames[0] == VP_SHAPE_COUNT, "one name per shape");
 
 void free_particles(vp_particles *p)
 {

@@ -50,7 +50,7 @@ def test_constants(layout):
     assert k["VP_ERR_CANCELLED"] == _lib.VP_ERR_CANCELLED
     assert k["VP_ERR_INTERNAL"] == _lib.VP_ERR_INTERNAL
     for i, name in enumerate(_lib.SHAPES):
-        assert k["VP_SHAPE_" + name.upper()] == i
+        assert k["VP_SHAPE_" + name.upper().replace("-", "_")] == i
     assert k["VP_SHAPE_COUNT"] == len(_lib.SHAPES)
     assert k["VP_SHAPE_MESH"] == _lib.VP_SHAPE_MESH
     assert k["VP_LATTICE_DEFAULT"] == _lib.VP_LATTICE_DEFAULT
