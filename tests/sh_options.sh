@@ -6,7 +6,9 @@
 # requested/placed/short in --json and in the file's metadata, read back
 # with OpenVDB's vdb_print; --allow-short), count=max with a law of
 # radii, --margin and --gap (measured with numpy, and by check) and their
-# bad values. Particle data is read back from CSV with numpy, not from the
+# bad values, and progress: none on a non-terminal, --progress one line per
+# stage in order with a fraction that never decreases (the terminal's bar
+# is drawn on a timer, so no test here asserts it). Particle data is read back from CSV with numpy, not from the
 # summary.
 set -euo pipefail
 : "${VDBPACK:?}" "${VP_SRC:?}"
@@ -152,4 +154,26 @@ bad 2 "--margin 0.5 leaves no room in sphere:0.5, whose inradius is 0.5" sphere:
 bad 1 "margin" "$P" --method rsa --radius 0.05 --count 10 --margin 0.8 -o bad.csv
 bad 2 "--margin goes with --method rsa, not lattice" box:1,1,1 --radius 0.05 --margin 0.1 -o bad.csv
 bad 2 "pack spheres in this version" box:1,1,1 --method rsa --shape cube --radius 0.05 --count 10 --gap 0.01 -o bad.csv
+echo "=== progress: nothing on a non-terminal; --progress: one line per stage"
+"$VDBPACK" pack "$P" --method rsa --radius 0.03 --count 500 -o q.vdb >/dev/null 2>q.err
+[ ! -s q.err ] || die "a non-terminal got progress output: $(cat q.err)"
+"$VDBPACK" pack "$P" --method rsa --radius 0.03 --count 500 -o q.vdb --progress >/dev/null 2>q.err
+"$PY" - q.err <<'PY' || exit 1
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+assert lines and all(l.startswith("progress: ") for l in lines), lines
+rows = [l.split()[1:] for l in lines]
+stages = [r[0] for r in rows]
+fr = [float(r[1]) for r in rows]
+secs = [float(r[2]) for r in rows]
+assert len(set(stages)) == len(stages), stages            # one line per stage
+assert stages[0] == "loading" and stages[-1] == "done", stages
+for want in ("loading/voxelizing", "packing/rsa", "writing"):
+    assert want in stages, (want, stages)
+assert stages.index("loading") < stages.index("packing/rsa") < stages.index("writing")
+assert fr == sorted(fr) and fr[-1] == 1.0 and 0 <= fr[0], fr   # monotone, ends at 1
+assert secs == sorted(secs), secs
+print("  ok: --progress: %d stages in order (%s), fractions %s" % (len(stages), " ".join(stages),
+      " ".join("%.3f" % f for f in fr)))
+PY
 echo "PASS: sh_options"

@@ -153,6 +153,9 @@ static const char *PACK_HELP =
     "  --allow-short           exit 0 when fewer particles were placed than asked\n"
     "                          for (default: exit status 4, \"packed, but short\",\n"
     "                          with one warning line; the file is written)\n"
+    "  --progress              one line per stage on stderr (\"progress: STAGE\n"
+    "                          FRACTION SECONDS\"), instead of the bar a terminal\n"
+    "                          gets (a bar: stages, elapsed and remaining time)\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
 

@@ -67,19 +67,34 @@ typedef struct pack_opts {
     int json;
     int quiet;
     int allow_short;        /* --allow-short: a shortfall exits 0 */
+    int progress;           /* --progress: one line per stage on stderr */
     double margin;          /* --margin: distance kept from the wall (rsa) */
     double gap;             /* --gap: distance kept between surfaces (rsa) */
     int rsa_count_radius;   /* rsa --count N without --radius: the radius is
                                the one N fill target_fraction with */
 } pack_opts;
 
-/* --- progress bar (stderr, only on a terminal, only for long work) ------- */
+/* --- progress (stderr) ------------------------------------------------------
+ * One bar per run, on a terminal only, that never moves back: the run is a
+ * list of phases (loading the container, packing, writing, the preview),
+ * each with a weight estimated from the job before it starts; within a
+ * phase the library's own fraction, which may restart (a lattice search
+ * per radius tried, a random packer's passes), counts only where it passes
+ * its largest so far. Elapsed and remaining time (remaining: elapsed times
+ * what is left over what is done). --progress on a non-terminal: one line
+ * per stage instead ("progress: STAGE FRACTION ELAPSED"), for scripts. */
 
 typedef struct progress {
     double start;
     int shown;
-    int bar; /* draw a bar (stderr is a terminal); else only watch for signals */
-    double last; /* when the bar was last drawn (redrawn at most 10 times a second) */
+    int bar;        /* draw a bar (stderr is a terminal) */
+    int lines;      /* --progress: one line per stage, no bar */
+    double last;    /* when the bar was last drawn (at most 10 times a second) */
+    const char *phase;   /* the run's phase ("packing") */
+    double base, weight; /* the phase spans [base, base + weight] of the bar */
+    double local;   /* the phase's largest fraction so far */
+    double done;    /* the bar's fraction: never decreases */
+    char stage[48]; /* the last stage printed by --progress */
 } progress;
 
 static double now(void) {
@@ -88,21 +103,60 @@ static double now(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* One --progress line, when the stage changes. */
+static void progress_line(progress *p, const char *stage, double t) {
+    char name[48];
+    snprintf(name, sizeof name, "%s%s%s", p->phase, stage && *stage ? "/" : "", stage ? stage : "");
+    if (!strcmp(name, p->stage)) return;
+    snprintf(p->stage, sizeof p->stage, "%s", name);
+    fprintf(stderr, "progress: %s %.3f %.2f\n", name, p->done, t - p->start);
+    fflush(stderr);
+}
+
+/* The next phase of the run and its share of the bar (the shares of the
+ * phases left are scaled to what remains). */
+static void progress_phase(progress *p, const char *phase, double weight) {
+    p->base = p->done;
+    p->weight = weight * (1.0 - p->done);
+    p->local = 0.0;
+    p->phase = phase;
+    if (p->lines) progress_line(p, NULL, now());
+}
+
 static int on_progress(void *user, double fraction, const char *stage) {
     progress *p = user;
     if (vp_cli_interrupted()) return 0; /* SIGINT/SIGTERM: cancel */
-    if (!p->bar) return 1;
+    if (!p->bar && !p->lines) return 1;
+    if (fraction > p->local && fraction <= 1.0) p->local = fraction;
+    double f = p->base + p->weight * p->local;
+    if (f > p->done) p->done = f;
     double t = now();
+    if (p->lines) {
+        progress_line(p, stage, t);
+        return 1;
+    }
     if (t - p->start < 0.5 || t - p->last < 0.1) return 1;
     p->last = t;
-    int w = 30, filled = (int)(fraction * w + 0.5);
+    int w = 30, filled = (int)(p->done * w + 0.5);
     if (filled > w) filled = w;
     if (filled < 0) filled = 0;
-    fprintf(stderr, "\r[%.*s%*s] %3d%% %-24s", filled, "##############################",
-            w - filled, "", (int)(fraction * 100 + 0.5), stage);
+    double el = t - p->start;
+    char left[32] = "";
+    if (p->done >= 0.02) snprintf(left, sizeof left, ", %.0f s left", el * (1 - p->done) / p->done);
+    fprintf(stderr, "\r[%.*s%*s] %3d%% %s: %-16.16s %.0f s%-14s", filled,
+            "##############################", w - filled, "", (int)(p->done * 100 + 0.5),
+            p->phase, stage ? stage : "", el, left);
     fflush(stderr);
     p->shown = 1;
     return 1;
+}
+
+/* The end of a run that succeeded: the last --progress line. */
+static void progress_end(progress *p) {
+    if (!p->lines) return;
+    p->done = 1.0;
+    p->phase = "done";
+    progress_line(p, NULL, now());
 }
 
 /* A library call failed: one line, or the interruption's line when a signal
@@ -264,7 +318,8 @@ enum {
     OPT_COUNT, OPT_PASS, OPT_RETRIES, OPT_GROW, OPT_TARGET_FRACTION, OPT_TOLERANCE, OPT_FIT,
     OPT_OFFSETS, OPT_ROTATE, OPT_ROTATIONS, OPT_SEED, OPT_VOXEL_SIZE, OPT_ALLOW_OPEN,
     OPT_INSIDE, OPT_ISO, OPT_GRID, OPT_PRECISION, OPT_SAVE_CONTAINER, OPT_SHAPE_OUT,
-    OPT_PREVIEW, OPT_THREADS, OPT_MAX_MEMORY, OPT_JSON, OPT_ALLOW_SHORT, OPT_MARGIN, OPT_GAP
+    OPT_PREVIEW, OPT_THREADS, OPT_MAX_MEMORY, OPT_JSON, OPT_ALLOW_SHORT, OPT_MARGIN, OPT_GAP,
+    OPT_PROGRESS
 };
 
 enum { M_LATTICE = 1, M_RSA = 2, M_RELAX = 4, M_JAM = 8 };
@@ -306,6 +361,7 @@ static const struct option PACK_OPTIONS[] = {
     {"allow-short", no_argument, NULL, OPT_ALLOW_SHORT},
     {"margin", required_argument, NULL, OPT_MARGIN},
     {"gap", required_argument, NULL, OPT_GAP},
+    {"progress", no_argument, NULL, OPT_PROGRESS},
     {NULL, 0, NULL, 0}};
 
 /* The options that go with some methods only; the others go with all. */
@@ -545,6 +601,7 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
     case OPT_JSON: o->json = 1; break;
     case OPT_QUIET: o->quiet = 1; break;
     case OPT_ALLOW_SHORT: o->allow_short = 1; break;
+    case OPT_PROGRESS: o->progress = 1; break;
     case OPT_MARGIN:
     case OPT_GAP: {
         double *x = c == OPT_MARGIN ? &o->margin : &o->gap;
@@ -577,7 +634,7 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     o->seed = 1;
     int have_radius = 0, have_count = 0;
     vp_cli_seen seen = {0};
-    unsigned char given[OPT_GAP - OPT_FORMAT + 1] = {0};
+    unsigned char given[OPT_PROGRESS - OPT_FORMAT + 1] = {0};
     /* getopt_long on a copy from "pack" on: argv itself (the command line
      * the file records) stays as given. "-" first: arguments in order, the
      * container as option 1; ":" a missing value as ':' */
@@ -1197,7 +1254,12 @@ int vp_cli_pack(int argc, char **argv) {
     }
     if (o.threads) vp_context_set_threads(ctx, (int)o.threads);
     if (o.max_memory) vp_context_set_max_memory(ctx, o.max_memory);
-    progress prog = {now(), 0, !o.quiet && !o.json && isatty(2), 0.0};
+    progress prog;
+    memset(&prog, 0, sizeof prog);
+    prog.start = now();
+    prog.lines = o.progress;
+    prog.bar = !o.progress && !o.quiet && !o.json && isatty(2);
+    prog.phase = "starting";
     vp_context_set_progress(ctx, on_progress, &prog);
     vp_cli_signals_install();
 
@@ -1229,6 +1291,7 @@ int vp_cli_pack(int argc, char **argv) {
     if (an == 0) {
         vp_container_params cp;
         container_params(&o, &cp);
+        progress_phase(&prog, "loading", 0.3);
         if (vp_container_load(ctx, o.container, &cp, &c) != VP_OK) {
             status = lib_error(ctx);
             goto done;
@@ -1274,6 +1337,8 @@ int vp_cli_pack(int argc, char **argv) {
     status = 1;
 
     run_result rr;
+    /* what is left: packing, then writing (and a preview) */
+    progress_phase(&prog, "packing", o.preview ? 0.8 : 0.9);
     if (run_method(ctx, c, &o, &p, &rr) != VP_OK) {
         status = lib_error(ctx);
         goto done;
@@ -1375,6 +1440,7 @@ int vp_cli_pack(int argc, char **argv) {
     vp_write_report wrep;
     memset(&wrep, 0, sizeof wrep);
     wp.report = &wrep;
+    progress_phase(&prog, "writing", o.preview ? 0.5 : 1.0);
     if (vp_cli_write_particles(ctx, o.output, o.out_format, p, &wp, o.quiet) != 0) {
         status = lib_error(ctx);
         goto done;
@@ -1387,6 +1453,7 @@ int vp_cli_pack(int argc, char **argv) {
     if (o.preview) {
         /* the preview is part of the job: if it fails, no output stays */
         vp_cli_signals_track_output(o.output);
+        progress_phase(&prog, "preview", 1.0);
         if (vp_cli_render_particles(ctx, p, NULL, o.preview) != 0) {
             vp_remove_output(o.output);
             status = lib_error(ctx);
@@ -1401,7 +1468,8 @@ int vp_cli_pack(int argc, char **argv) {
     vp_cli_signals_done();
     ncreated = 0; /* success: keep every output */
     double seconds = now() - t0;
-    if (prog.shown) fprintf(stderr, "\r%*s\r", 64, "");
+    if (prog.shown) fprintf(stderr, "\r%*s\r", 96, "");
+    progress_end(&prog);
 
     if (o.json)
         print_json(&o, &ci, p, &rr, &wrep, fraction, vp_context_threads(ctx), seconds);
@@ -1427,7 +1495,7 @@ int vp_cli_pack(int argc, char **argv) {
 
 done:
     for (int i = 0; i < ncreated; i++) vp_remove_output(created[i]);
-    if (prog.shown && status) fprintf(stderr, "\r%*s\r", 64, "");
+    if (prog.shown && status) fprintf(stderr, "\r%*s\r", 96, "");
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
