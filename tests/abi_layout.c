@@ -107,7 +107,7 @@ static void structs(void) {
     F(vp_rsa_params, fit); F(vp_rsa_params, shape); F(vp_rsa_params, mesh);
     F(vp_rsa_params, orient); F(vp_rsa_params, overlap); F(vp_rsa_params, passes);
     F(vp_rsa_params, npasses); F(vp_rsa_params, seed); F(vp_rsa_params, max_cells);
-    F(vp_rsa_params, shape_param);
+    F(vp_rsa_params, shape_param); F(vp_rsa_params, margin); F(vp_rsa_params, gap);
     printf("}");
 
     S(vp_rsa_pass_report);
@@ -152,7 +152,8 @@ static void structs(void) {
     S(vp_check_params);
     F(vp_check_params, fit); F(vp_check_params, overlap_tolerance);
     F(vp_check_params, contact_tolerance); F(vp_check_params, wall_tolerance);
-    F(vp_check_params, position_tolerance);
+    F(vp_check_params, position_tolerance); F(vp_check_params, margin);
+    F(vp_check_params, gap);
     printf("}");
 
     S(vp_check_report);

@@ -43,7 +43,11 @@ same 0 "$T" --count 3000                                   # lattice, count mode
 same 0 sphere:1 --radius 0.1 --shape icosahedron --rotate       # solids, rotation search
 same 0 box:1,1,1 --radius 0.1 --shape tetrahedron --precision full
 same 1 box:1,1,1 --method rsa --radius 0.03 --count 2000
-same 1 "$T" --method rsa --pass count=20,radius=0.3,grow --pass count=max,radius=0.08
+# (20 of radius 0.3 do not all fit in the torus: short, exit 4 without
+# --allow-short)
+same 1 "$T" --method rsa --pass count=20,radius=0.3,grow --pass count=max,radius=0.08 --allow-short
+same 1 box:1,1,1 --method rsa --radius lognormal:0.03:0.008 --count max   # maximal, a law of radii
+same 1 box:1,1,1 --method rsa --count 2000 --target-fraction 0.25         # the radius from the count
 same 1 sphere:1 --method rsa --radius uniform:0.02:0.05 --count 1500 --retries 2000
 same 1 box:1,1,1 --method rsa --shape tetrahedron --radius 0.05 --count 800 --grow
 same 1 "$T" --method rsa --shape cube --overlap bbox --radius 0.1 --count 300
@@ -68,6 +72,9 @@ simd() { # ARGS...
 }
 simd box:1,1,1 --method rsa --radius 0.01 --count 70000
 simd box:1,1,1 --method rsa --radius 0.012 --count max
-simd sphere:1 --method rsa --radius lognormal:0.03:0.01 --count 12000
+# (places 4572 of 12000 before 5000 tries in a row fail: short, exit 4
+# without --allow-short)
+simd sphere:1 --method rsa --radius lognormal:0.03:0.01 --count 12000 --allow-short
 simd "$T" --method rsa --radius 0.05 --count max --fit center
+simd sphere:1 --method rsa --radius uniform:0.02:0.05 --count max   # maximal, a law of radii
 echo "PASS: sh_determinism ($n packers and settings)"

@@ -53,7 +53,8 @@ def _poll_mesh(self, obj):
 class VDBPACK_PG_pass(bpy.types.PropertyGroup):
     """One pass of the Random method (the command line's --pass)."""
     maximal: BoolProperty(name="Max", default=False,
-                          description="Place until no more fit (a single radius only)")
+                          description="Place until no more fit (with a distribution: until "
+                                      "none of its smallest radius fits)")
     count: IntProperty(name="Count", default=100, min=1, soft_max=1000000,
                        description="Particles to place in this pass")
     radius: FloatProperty(name="Radius", default=0.05, min=1e-6, soft_max=10, precision=4,

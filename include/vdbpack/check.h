@@ -30,6 +30,11 @@ typedef struct vp_check_params {
                                  ("imprecise": the file cannot show that they
                                  do not overlap); default
                                  VP_POSITION_ERROR_LIMIT (1e-3) */
+    double margin;            /* world distance each particle must keep from the
+                                 wall (its surface with fit inside, its centre
+                                 with fit center); default 0 */
+    double gap;               /* spheres: world distance between any two
+                                 surfaces (pairs closer overlap); default 0 */
 } vp_check_params;
 VP_API void vp_check_params_init(vp_check_params *p);
 

@@ -20,7 +20,11 @@ extern "C" {
 typedef struct vp_rsa_pass {
     size_t count;          /* particles wanted (ignored when maximal) */
     int maximal;           /* 1: fill until no centre of this pass's radius fits
-                              anywhere (a maximal set; constant radius only) */
+                              anywhere (a maximal set). With a distribution
+                              (spheres): until none of its smallest radius
+                              fits; each try draws from the distribution, cut
+                              at the room where it lands. Solids: the retry
+                              limit ends it */
     vp_size_dist radius;   /* bounding-sphere radius */
     int retries;           /* consecutive failed tries after which the pass
                               ends; 0 = VP_RSA_DEFAULT_RETRIES */
@@ -57,6 +61,11 @@ typedef struct vp_rsa_params {
                                   solids); 0 = automatic, 32 x the
                                   expected count of the pass (at least 65536) */
     double shape_param;        /* VP_SHAPE_SUPERBALL: the exponent p */
+    double margin;             /* spheres: world distance each keeps from the
+                                  wall (its surface with fit inside, its centre
+                                  with fit center); default 0 */
+    double gap;                /* spheres: world distance between the surfaces
+                                  of any two (< the smallest radius); default 0 */
 } vp_rsa_params;
 VP_API void vp_rsa_params_init(vp_rsa_params *p);
 

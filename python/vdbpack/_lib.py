@@ -213,7 +213,7 @@ class vp_rsa_params(ctypes.Structure):
         ("fit", _e), ("shape", _e), ("mesh", ctypes.c_void_p), ("orient", _e), ("overlap", _e),
         ("passes", ctypes.POINTER(vp_rsa_pass)), ("npasses", ctypes.c_size_t),
         ("seed", ctypes.c_uint64), ("max_cells", ctypes.c_size_t),
-        ("shape_param", ctypes.c_double)]
+        ("shape_param", ctypes.c_double), ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
 
 
 class vp_rsa_pass_report(ctypes.Structure):
@@ -265,7 +265,8 @@ class vp_check_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("overlap_tolerance", ctypes.c_double),
         ("contact_tolerance", ctypes.c_double), ("wall_tolerance", ctypes.c_double),
-        ("position_tolerance", ctypes.c_double)]
+        ("position_tolerance", ctypes.c_double), ("margin", ctypes.c_double),
+        ("gap", ctypes.c_double)]
 
 
 class vp_check_report(ctypes.Structure):

@@ -138,9 +138,6 @@ def _rsa_pass(spec, k, retries):
             raise ValueError("%s: name must be 1-31 letters, digits or _, not starting with __, "
                              "not %r" % (where, name))
         ps.name = name.encode()
-    if ps.maximal and ps.radius.kind != 0:
-        raise ValueError("pass %d: count='max' needs a single radius, not a distribution"
-                         % (k + 1))
     return ps
 
 

@@ -313,14 +313,15 @@ class Packing:
     # -- checking ----------------------------------------------------------
 
     def check(self, container, fit=None, *, overlap_tolerance=None, contact_tolerance=None,
-              wall_tolerance=None, position_tolerance=None, threads=None, max_memory=None,
-              progress=None, **load):
+              wall_tolerance=None, position_tolerance=None, margin=None, gap=None, threads=None,
+              max_memory=None, progress=None, **load):
         """Recomputes overlaps, particles outside the container, the packing
         fraction and contacts (vdbpack check). container: a Container, or a
         path / 'box:X,Y,Z' / 'sphere:R' loaded as `vdbpack check` loads it
         (voxel_size, inside, iso from the packing's metadata unless given;
         grid). fit: "inside" or "center" (default: the metadata's fit, else
-        inside). Returns a Report (dict with attribute access) with the
+        inside). margin, gap: distances to keep from the wall and between
+        sphere surfaces (default: the metadata's, else 0). Returns a Report (dict with attribute access) with the
         keys of `vdbpack check --json`: overlapping_pairs, max_overlap,
         outside, packing_fraction (also as fraction), mean_contacts, ok,
         ..."""
@@ -339,6 +340,12 @@ class Packing:
                 setattr(cp, name, _arrays.number(v, name, positive=True))
         if wall_tolerance is not None:
             cp.wall_tolerance = _arrays.number(wall_tolerance, "wall_tolerance", positive=True)
+        for name, v in (("margin", margin), ("gap", gap)):
+            if v is None:
+                v = _meta_float(md.get(name))
+                if v is None or not v >= 0:
+                    continue
+            setattr(cp, name, _arrays.number(v, name, positive=True))
         c, keep = self._c(need_mesh=True, what="to check this")
         watch = ()
         if isinstance(container, _container.Container):
@@ -382,7 +389,8 @@ class Packing:
         del keep
         bad = rep.overlapping_pairs > 0 or rep.outside > 0 or bool(rep.imprecise)
         return Report([
-            ("container", name), ("fit", "inside" if cp.fit == 0 else "center"),
+            ("container", name), ("margin", cp.margin), ("gap", cp.gap),
+            ("fit", "inside" if cp.fit == 0 else "center"),
             ("shape", self.shape), ("count", rep.count),
             ("overlapping_pairs", rep.overlapping_pairs), ("max_overlap", rep.max_overlap),
             ("max_overlap_world", rep.max_overlap_world),

@@ -32,6 +32,10 @@ const char *VP_CHECK_HELP =
     "                          (default 1e-3)\n"
     "  --wall-tolerance D      world distance a particle may cross the wall by\n"
     "                          (default: a tenth of the container's voxel)\n"
+    "  --margin D              world distance every particle must keep from the\n"
+    "                          wall (default: the file's margin metadata, else 0)\n"
+    "  --gap G                 world distance between any two sphere surfaces\n"
+    "                          (default: the file's gap metadata, else 0)\n"
     "  --voxel-size V          voxel size for a mesh container (default: the\n"
     "                          file's voxel_size metadata, else automatic)\n"
     "  --grid NAME             level-set grid of a .vdb container\n"
@@ -61,6 +65,7 @@ static const char *meta_value(const char *json, const char *key) {
 int vp_cli_check(int argc, char **argv) {
     const char *file = NULL, *cont = NULL, *grid = NULL, *shape_file = NULL;
     int json = 0, quiet = 0, fit_set = 0, inside_set = 0, has_iso = 0;
+    int margin_set = 0, gap_set = 0; /* else from the file's metadata */
     vp_inside_mode inside = VP_INSIDE_AUTO;
     double voxel = 0, iso = 0;
     vp_check_params cp;
@@ -88,7 +93,8 @@ int vp_cli_check(int argc, char **argv) {
             else return vp_cli_die(2, "check: --fit must be inside or center, not '%s'", v);
             fit_set = 1;
         } else if (!strcmp(a, "--overlap-tolerance") || !strcmp(a, "--contact-tolerance") ||
-                   !strcmp(a, "--wall-tolerance") || !strcmp(a, "--voxel-size")) {
+                   !strcmp(a, "--wall-tolerance") || !strcmp(a, "--voxel-size") ||
+                   !strcmp(a, "--margin") || !strcmp(a, "--gap")) {
             NEED();
             double x;
             if (vp_cli_parse_double(v, &x) != 0 || x < 0 ||
@@ -98,6 +104,8 @@ int vp_cli_check(int argc, char **argv) {
             if (!strcmp(a, "--overlap-tolerance")) cp.overlap_tolerance = x;
             else if (!strcmp(a, "--contact-tolerance")) cp.contact_tolerance = x;
             else if (!strcmp(a, "--wall-tolerance")) cp.wall_tolerance = x;
+            else if (!strcmp(a, "--margin")) cp.margin = x, margin_set = 1;
+            else if (!strcmp(a, "--gap")) cp.gap = x, gap_set = 1;
             else voxel = x;
         } else if (!strcmp(a, "--grid")) {
             NEED();
@@ -173,6 +181,16 @@ int vp_cli_check(int argc, char **argv) {
                 has_iso = 1;
             }
         }
+        /* the distances the packing was asked to keep */
+        const char *mg = meta_value(desc, "margin"), *gp = meta_value(desc, "gap");
+        if (mg && !margin_set) {
+            double x = strtod(mg, NULL);
+            if (x >= 0 && isfinite(x)) cp.margin = x;
+        }
+        if (gp && !gap_set) {
+            double x = strtod(gp, NULL);
+            if (x >= 0 && isfinite(x)) cp.gap = x;
+        }
         const char *vs = meta_value(desc, "voxel_size");
         if (vs && !(voxel > 0)) {
             double x = strtod(vs, NULL);
@@ -236,6 +254,7 @@ int vp_cli_check(int argc, char **argv) {
         vp_cli_json_string(stdout, file);
         printf(",\"container\":");
         vp_cli_json_string(stdout, cont);
+        printf(",\"margin\":%.17g,\"gap\":%.17g", cp.margin, cp.gap);
         printf(",\"fit\":\"%s\",\"shape\":\"%s\",\"count\":%zu,\"overlapping_pairs\":%zu,"
                "\"max_overlap\":%.17g,\"max_overlap_world\":%.17g,\"overlap_tolerance\":%.17g,"
                "\"position_error\":%.17g,\"position_error_ratio\":%.17g,\"imprecise\":%s,"
@@ -253,6 +272,9 @@ int vp_cli_check(int argc, char **argv) {
         char what[96];
         vp_cli_shape_count(what, sizeof what, rep.count, p->shape);
         printf("vdbpack check %s: %s against %s (fit %s)\n", file, what, cont, fit);
+        if (cp.margin > 0 || cp.gap > 0)
+            printf("  kept apart: margin %.6g from the wall, gap %.6g between surfaces\n",
+                   cp.margin, cp.gap);
         printf("  overlaps: %zu pairs beyond %.3g of %s (largest %.3g, %.3g world)\n",
                rep.overlapping_pairs, cp.overlap_tolerance,
                p->shape == VP_SHAPE_SPHERE ? "r_i + r_j" : "the smaller radius", rep.max_overlap,

@@ -48,6 +48,13 @@ static const char *PACK_HELP =
     "  --fit inside|center     inside (default): every particle wholly inside (every\n"
     "                          vertex for solids); center: the centre inside\n"
     "  --seed N                random seed (default 1); same seed, same file\n"
+    "  --count N               N particles, for every method: lattice chooses the\n"
+    "                          radius that gives about N; rsa places N, of --radius\n"
+    "                          or else of the radius at which N fill\n"
+    "                          --target-fraction; relax and jam pack N spheres\n"
+    "\n"
+    "Options are --opt VALUE or --opt=VALUE, abbreviated where unambiguous (--rad);\n"
+    "-- ends the options.\n"
     "\n"
     "Lattice (--method lattice):\n"
     "  --shape NAME            sphere (default), tetrahedron, cube, octahedron,\n"
@@ -73,13 +80,20 @@ static const char *PACK_HELP =
     "Random sequential addition (--method rsa):\n"
     "  --pass SPEC             one pass; repeat for binary, ternary, ... packings.\n"
     "                          SPEC: count=N|max,radius=SIZE[,retries=K][,grow][,name=G]\n"
-    "                          count=max fills until no room is left (one radius);\n"
+    "                          count=max fills until no room is left for the\n"
+    "                          smallest radius of SIZE, drawing radii from SIZE;\n"
     "                          grow: afterwards each particle of the pass grows until\n"
     "                          it touches; the pass's particles form group passK or G\n"
     "                          (G: 1-31 letters, digits or _, not __..., unique)\n"
     "  --radius SIZE --count N|max   a single pass, instead of --pass\n"
+    "  --count N               alone: a single pass of N at the radius that makes\n"
+    "                          them fill --target-fraction F (default 0.3)\n"
     "  --retries K             failed tries in a row that end a pass (default 5000)\n"
     "  --grow                  with --radius/--count: grow the pass's particles\n"
+    "  --margin D              spheres keep D (world units) from the wall: their\n"
+    "                          surface (--fit inside) or centre (--fit center)\n"
+    "  --gap G                 spheres keep G (world units, < the smallest radius)\n"
+    "                          between their surfaces; vdbpack check tests both\n"
     "  --shape NAME|FILE       as for lattice, or any closed mesh file (OBJ, PLY,\n"
     "                          STL, glTF, ...; concave too), centred on the centroid\n"
     "                          of its volume and scaled to bounding radius 1\n"
@@ -142,6 +156,12 @@ static const char *PACK_HELP =
     "                          cores); the output does not depend on it\n"
     "  --max-memory SIZE       refuse jobs estimated above SIZE (e.g. 8G; default: RAM)\n"
     "  --json                  print the summary as JSON on stdout\n"
+    "  --allow-short           exit 0 when fewer particles were placed than asked\n"
+    "                          for (default: exit status 4, \"packed, but short\",\n"
+    "                          with one warning line; the file is written)\n"
+    "  --progress              one line per stage on stderr (\"progress: STAGE\n"
+    "                          FRACTION SECONDS\"), instead of the bar a terminal\n"
+    "                          gets (a bar: stages, elapsed and remaining time)\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
 
@@ -208,8 +228,11 @@ static int run_command(int argc, char **argv) {
         return 0;
     }
     if (!strcmp(cmd, "pack")) {
-        for (int i = 2; i < argc; i++)
-            if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+        /* -h, --help or an abbreviation of it (--he), before the options'
+         * end (--) */
+        for (int i = 2; i < argc && strcmp(argv[i], "--") != 0; i++)
+            if (!strcmp(argv[i], "-h") ||
+                (strlen(argv[i]) >= 3 && !strncmp(argv[i], "--help", strlen(argv[i])))) {
                 fputs(PACK_HELP, stdout);
                 return 0;
             }

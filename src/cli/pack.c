@@ -3,6 +3,7 @@
 #include "vdbpack/vdbpack.h"
 
 #include <float.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +13,13 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+
+/* rsa --count N without --radius: the packing fraction the radius is
+ * chosen for (random sequential addition of equal spheres saturates near
+ * 0.38 in bulk, less near walls; 0.3 leaves room to place all N) */
+#define VP_CLI_RSA_FRACTION 0.3
+/* exit status of a run that packed fewer particles than asked for */
+#define VP_CLI_EXIT_SHORT 4
 
 typedef struct pack_opts {
     const char *container;
@@ -58,15 +66,35 @@ typedef struct pack_opts {
     uint64_t max_memory;
     int json;
     int quiet;
+    int allow_short;        /* --allow-short: a shortfall exits 0 */
+    int progress;           /* --progress: one line per stage on stderr */
+    double margin;          /* --margin: distance kept from the wall (rsa) */
+    double gap;             /* --gap: distance kept between surfaces (rsa) */
+    int rsa_count_radius;   /* rsa --count N without --radius: the radius is
+                               the one N fill target_fraction with */
 } pack_opts;
 
-/* --- progress bar (stderr, only on a terminal, only for long work) ------- */
+/* --- progress (stderr) ------------------------------------------------------
+ * One bar per run, on a terminal only, that never moves back: the run is a
+ * list of phases (loading the container, packing, writing, the preview),
+ * each with a weight estimated from the job before it starts; within a
+ * phase the library's own fraction, which may restart (a lattice search
+ * per radius tried, a random packer's passes), counts only where it passes
+ * its largest so far. Elapsed and remaining time (remaining: elapsed times
+ * what is left over what is done). --progress on a non-terminal: one line
+ * per stage instead ("progress: STAGE FRACTION ELAPSED"), for scripts. */
 
 typedef struct progress {
     double start;
     int shown;
-    int bar; /* draw a bar (stderr is a terminal); else only watch for signals */
-    double last; /* when the bar was last drawn (redrawn at most 10 times a second) */
+    int bar;        /* draw a bar (stderr is a terminal) */
+    int lines;      /* --progress: one line per stage, no bar */
+    double last;    /* when the bar was last drawn (at most 10 times a second) */
+    const char *phase;   /* the run's phase ("packing") */
+    double base, weight; /* the phase spans [base, base + weight] of the bar */
+    double local;   /* the phase's largest fraction so far */
+    double done;    /* the bar's fraction: never decreases */
+    char stage[48]; /* the last stage printed by --progress */
 } progress;
 
 static double now(void) {
@@ -75,21 +103,60 @@ static double now(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* One --progress line, when the stage changes. */
+static void progress_line(progress *p, const char *stage, double t) {
+    char name[48];
+    snprintf(name, sizeof name, "%s%s%s", p->phase, stage && *stage ? "/" : "", stage ? stage : "");
+    if (!strcmp(name, p->stage)) return;
+    snprintf(p->stage, sizeof p->stage, "%s", name);
+    fprintf(stderr, "progress: %s %.3f %.2f\n", name, p->done, t - p->start);
+    fflush(stderr);
+}
+
+/* The next phase of the run and its share of the bar (the shares of the
+ * phases left are scaled to what remains). */
+static void progress_phase(progress *p, const char *phase, double weight) {
+    p->base = p->done;
+    p->weight = weight * (1.0 - p->done);
+    p->local = 0.0;
+    p->phase = phase;
+    if (p->lines) progress_line(p, NULL, now());
+}
+
 static int on_progress(void *user, double fraction, const char *stage) {
     progress *p = user;
     if (vp_cli_interrupted()) return 0; /* SIGINT/SIGTERM: cancel */
-    if (!p->bar) return 1;
+    if (!p->bar && !p->lines) return 1;
+    if (fraction > p->local && fraction <= 1.0) p->local = fraction;
+    double f = p->base + p->weight * p->local;
+    if (f > p->done) p->done = f;
     double t = now();
+    if (p->lines) {
+        progress_line(p, stage, t);
+        return 1;
+    }
     if (t - p->start < 0.5 || t - p->last < 0.1) return 1;
     p->last = t;
-    int w = 30, filled = (int)(fraction * w + 0.5);
+    int w = 30, filled = (int)(p->done * w + 0.5);
     if (filled > w) filled = w;
     if (filled < 0) filled = 0;
-    fprintf(stderr, "\r[%.*s%*s] %3d%% %-24s", filled, "##############################",
-            w - filled, "", (int)(fraction * 100 + 0.5), stage);
+    double el = t - p->start;
+    char left[32] = "";
+    if (p->done >= 0.02) snprintf(left, sizeof left, ", %.0f s left", el * (1 - p->done) / p->done);
+    fprintf(stderr, "\r[%.*s%*s] %3d%% %s: %-16.16s %.0f s%-14s", filled,
+            "##############################", w - filled, "", (int)(p->done * 100 + 0.5),
+            p->phase, stage ? stage : "", el, left);
     fflush(stderr);
     p->shown = 1;
     return 1;
+}
+
+/* The end of a run that succeeded: the last --progress line. */
+static void progress_end(progress *p) {
+    if (!p->lines) return;
+    p->done = 1.0;
+    p->phase = "done";
+    progress_line(p, NULL, now());
 }
 
 /* A library call failed: one line, or the interruption's line when a signal
@@ -106,16 +173,9 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
     const char *m = o->method;
     int lattice = !strcmp(m, "lattice"), rsa = !strcmp(m, "rsa"), relax = !strcmp(m, "relax");
     int jam = !strcmp(m, "jam");
-    if (!lattice && (o->lattice != VP_LATTICE_DEFAULT || o->offsets || o->rotate || o->rotations))
-        return vp_cli_die(2, "pack: --lattice, --offsets, --rotate and --rotations go with "
-                             "--method lattice");
-    if (!rsa && (o->npasses || o->retries || o->grow))
-        return vp_cli_die(2, "pack: --pass, --retries and --grow go with --method rsa");
-    if (!relax && !jam && (o->target_fraction > 0 || o->tolerance > 0))
-        return vp_cli_die(2, "pack: --target-fraction and --tolerance go with --method relax "
-                             "and jam");
+    /* (options that go with other methods: check_option_methods) */
     if (!rsa && o->count_max)
-        return vp_cli_die(2, "pack: --count max goes with --method rsa");
+        return vp_cli_die(2, "pack: --count max goes with --method rsa, not %s", m);
     if (o->shape == VP_SHAPE_MESH && !rsa)
         return vp_cli_die(2, "pack: a mesh --shape (%s) packs with --method rsa in this version",
                           o->shape_file);
@@ -141,8 +201,12 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
             return vp_cli_die(2, "pack: give the particle size with --radius R or --count N");
         if (have_radius && (vp_cli_parse_double(o->radius_text, &o->radius) != 0 ||
                             !(o->radius > 0)))
-            return vp_cli_die(2, "pack: --radius must be a positive number, not '%s'",
-                              o->radius_text);
+            return vp_cli_die(2, "pack: --radius must be a positive number for --method lattice, "
+                                 "not '%s'%s", o->radius_text,
+                              strchr(o->radius_text, ':')
+                                  ? " (distributions of radii go with --method rsa, relax and "
+                                    "jam)"
+                                  : "");
         /* as for rsa and relax (vp_size_dist_parse): a radius below a
          * normal float would be stored as a denormal or 0 */
         if (have_radius && !(o->radius >= FLT_MIN))
@@ -164,14 +228,30 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         if (o->npasses && (have_radius || have_count))
             return vp_cli_die(2, "pack: give either --pass options or --radius with --count "
                                  "(one pass), not both");
+        if (o->npasses && o->target_fraction > 0)
+            return vp_cli_die(2, "pack: --target-fraction with --method rsa chooses the radius "
+                                 "for --count N (no --radius); --pass gives its own radii");
         if (!o->npasses) {
-            if (!have_radius || !have_count)
-                return vp_cli_die(2, "pack: --method rsa needs --pass count=N,radius=R (one or "
-                                     "more) or --radius R with --count N|max");
+            if (!have_count)
+                return vp_cli_die(2, "pack: --method rsa needs --count N|max (with --radius R, "
+                                     "or alone: the radius that fills --target-fraction) or "
+                                     "--pass count=N,radius=R (one or more)");
+            if (have_radius && o->target_fraction > 0)
+                return vp_cli_die(2, "pack: --method rsa takes --radius R or --target-fraction F "
+                                     "(which chooses the radius for --count N), not both");
+            if (!have_radius && o->count_max)
+                return vp_cli_die(2, "pack: --count max needs --radius R (the radius to fill "
+                                     "with)");
             vp_rsa_pass *ps = &o->passes[0];
             vp_rsa_pass_init(ps);
-            int rc = vp_cli_parse_sizes("--radius", o->radius_text, &ps->radius);
+            /* no --radius: one radius, set once the container's volume is
+             * known (rsa_count_radius) */
+            int rc = have_radius ? vp_cli_parse_sizes("--radius", o->radius_text, &ps->radius) : 0;
             if (rc) return rc;
+            if (!have_radius) {
+                o->rsa_count_radius = 1;
+                if (!(o->target_fraction > 0)) o->target_fraction = VP_CLI_RSA_FRACTION;
+            }
             ps->count = (size_t)o->count;
             ps->maximal = o->count_max;
             ps->grow = o->grow;
@@ -180,7 +260,15 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
             return vp_cli_die(2, "pack: with --pass, ask for growth in the pass (--pass "
                                  "count=N,radius=R,grow)");
         }
+        if ((o->margin > 0 || o->gap > 0) && o->shape != VP_SHAPE_SPHERE)
+            return vp_cli_die(2, "pack: --margin and --gap pack spheres in this version, not "
+                                 "--shape %s", o->shape_file ? o->shape_file
+                                                              : vp_shape_name(o->shape));
         for (int i = 0; i < o->npasses; i++) {
+            if (o->gap > 0 && !o->rsa_count_radius && !(o->gap < vp_size_dist_min(&o->passes[i].radius)))
+                return vp_cli_die(2, "pack: --gap %g must be smaller than the smallest radius "
+                                     "(%g, pass %d)", o->gap,
+                                  vp_size_dist_min(&o->passes[i].radius), i + 1);
             /* each pass its own point group: a name=passK given to another
              * pass than the K-th made two groups of one name, which the
              * .vdb writer refused after packing and CSV merged */
@@ -195,9 +283,6 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
                                          "each pass its own name=", k + 1, i + 1, ni);
             }
             if (o->retries && !o->passes[i].retries) o->passes[i].retries = (int)o->retries;
-            if (o->passes[i].maximal && o->passes[i].radius.kind != VP_SIZE_CONSTANT)
-                return vp_cli_die(2, "pack: pass %d: count=max needs a single radius, not a "
-                                     "distribution", i + 1);
         }
         return 0;
     }
@@ -224,9 +309,318 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
     return vp_cli_parse_sizes("--radius", o->radius_text, &o->sizes);
 }
 
-static int need_value(int argc, char **argv, int *i, const char **val) {
-    if (*i + 1 >= argc) return vp_cli_die(2, "pack: %s needs a value", argv[*i]);
-    *val = argv[++*i];
+/* The long options of `vdbpack pack`, parsed by getopt_long: --opt=value
+ * and --opt value, unambiguous abbreviations (--rad for --radius), -- ends
+ * the options. Each option's id, and the methods it goes with (0: all). */
+enum {
+    OPT_OUTPUT = 'o', OPT_QUIET = 'q', OPT_HELP = 'h',
+    OPT_FORMAT = 256, OPT_METHOD, OPT_SHAPE, OPT_ORIENT, OPT_OVERLAP, OPT_LATTICE, OPT_RADIUS,
+    OPT_COUNT, OPT_PASS, OPT_RETRIES, OPT_GROW, OPT_TARGET_FRACTION, OPT_TOLERANCE, OPT_FIT,
+    OPT_OFFSETS, OPT_ROTATE, OPT_ROTATIONS, OPT_SEED, OPT_VOXEL_SIZE, OPT_ALLOW_OPEN,
+    OPT_INSIDE, OPT_ISO, OPT_GRID, OPT_PRECISION, OPT_SAVE_CONTAINER, OPT_SHAPE_OUT,
+    OPT_PREVIEW, OPT_THREADS, OPT_MAX_MEMORY, OPT_JSON, OPT_ALLOW_SHORT, OPT_MARGIN, OPT_GAP,
+    OPT_PROGRESS
+};
+
+enum { M_LATTICE = 1, M_RSA = 2, M_RELAX = 4, M_JAM = 8 };
+
+static const struct option PACK_OPTIONS[] = {
+    {"output", required_argument, NULL, OPT_OUTPUT},
+    {"quiet", no_argument, NULL, OPT_QUIET},
+    {"help", no_argument, NULL, OPT_HELP},
+    {"format", required_argument, NULL, OPT_FORMAT},
+    {"method", required_argument, NULL, OPT_METHOD},
+    {"shape", required_argument, NULL, OPT_SHAPE},
+    {"orient", required_argument, NULL, OPT_ORIENT},
+    {"overlap", required_argument, NULL, OPT_OVERLAP},
+    {"lattice", required_argument, NULL, OPT_LATTICE},
+    {"radius", required_argument, NULL, OPT_RADIUS},
+    {"count", required_argument, NULL, OPT_COUNT},
+    {"pass", required_argument, NULL, OPT_PASS},
+    {"retries", required_argument, NULL, OPT_RETRIES},
+    {"grow", no_argument, NULL, OPT_GROW},
+    {"target-fraction", required_argument, NULL, OPT_TARGET_FRACTION},
+    {"tolerance", required_argument, NULL, OPT_TOLERANCE},
+    {"fit", required_argument, NULL, OPT_FIT},
+    {"offsets", required_argument, NULL, OPT_OFFSETS},
+    {"rotate", no_argument, NULL, OPT_ROTATE},
+    {"rotations", required_argument, NULL, OPT_ROTATIONS},
+    {"seed", required_argument, NULL, OPT_SEED},
+    {"voxel-size", required_argument, NULL, OPT_VOXEL_SIZE},
+    {"allow-open", no_argument, NULL, OPT_ALLOW_OPEN},
+    {"inside", required_argument, NULL, OPT_INSIDE},
+    {"iso", required_argument, NULL, OPT_ISO},
+    {"grid", required_argument, NULL, OPT_GRID},
+    {"precision", required_argument, NULL, OPT_PRECISION},
+    {"save-container", required_argument, NULL, OPT_SAVE_CONTAINER},
+    {"shape-out", required_argument, NULL, OPT_SHAPE_OUT},
+    {"preview", required_argument, NULL, OPT_PREVIEW},
+    {"threads", required_argument, NULL, OPT_THREADS},
+    {"max-memory", required_argument, NULL, OPT_MAX_MEMORY},
+    {"json", no_argument, NULL, OPT_JSON},
+    {"allow-short", no_argument, NULL, OPT_ALLOW_SHORT},
+    {"margin", required_argument, NULL, OPT_MARGIN},
+    {"gap", required_argument, NULL, OPT_GAP},
+    {"progress", no_argument, NULL, OPT_PROGRESS},
+    {NULL, 0, NULL, 0}};
+
+/* The options that go with some methods only; the others go with all. */
+static const struct {
+    int id;
+    unsigned methods;
+} METHOD_OPTIONS[] = {
+    {OPT_LATTICE, M_LATTICE}, {OPT_OFFSETS, M_LATTICE}, {OPT_ROTATE, M_LATTICE},
+    {OPT_ROTATIONS, M_LATTICE}, {OPT_PASS, M_RSA}, {OPT_RETRIES, M_RSA}, {OPT_GROW, M_RSA},
+    {OPT_ORIENT, M_RSA}, {OPT_OVERLAP, M_RSA}, {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
+    {OPT_TOLERANCE, M_RELAX | M_JAM}, {OPT_MARGIN, M_RSA}, {OPT_GAP, M_RSA},
+};
+
+static const char *option_name(int id) {
+    for (const struct option *lo = PACK_OPTIONS; lo->name; lo++)
+        if (lo->val == id) return lo->name;
+    return "?";
+}
+
+/* "--name" of option id, in storage that lasts the process. */
+static const char *dashed_name(int id) {
+    static char names[sizeof PACK_OPTIONS / sizeof PACK_OPTIONS[0]][32];
+    for (size_t i = 0; PACK_OPTIONS[i].name; i++)
+        if (PACK_OPTIONS[i].val == id) {
+            if (!names[i][0]) snprintf(names[i], sizeof names[i], "--%s", PACK_OPTIONS[i].name);
+            return names[i];
+        }
+    return "?";
+}
+
+static unsigned method_bit(const char *m) {
+    return !strcmp(m, "lattice") ? M_LATTICE : !strcmp(m, "rsa") ? M_RSA
+           : !strcmp(m, "relax") ? M_RELAX : M_JAM;
+}
+
+/* "rsa", "relax and jam", "rsa, relax and jam" */
+static void methods_text(unsigned m, char *out, size_t len) {
+    static const char *const names[] = {"lattice", "rsa", "relax", "jam"};
+    int n = 0, total = 0;
+    for (int k = 0; k < 4; k++) total += (m >> k) & 1;
+    out[0] = 0;
+    for (int k = 0; k < 4; k++) {
+        if (!((m >> k) & 1)) continue;
+        size_t at = strlen(out);
+        snprintf(out + at, len - at, "%s%s", n == 0 ? "" : n == total - 1 ? " and " : ", ",
+                 names[k]);
+        n++;
+    }
+}
+
+/* An option given to a method that does not take it: one line naming the
+ * methods that do. given[]: the option ids seen. */
+static int check_option_methods(const pack_opts *o, const unsigned char *given) {
+    unsigned mine = method_bit(o->method);
+    for (size_t i = 0; i < sizeof METHOD_OPTIONS / sizeof METHOD_OPTIONS[0]; i++) {
+        if (!given[METHOD_OPTIONS[i].id - OPT_FORMAT] || (METHOD_OPTIONS[i].methods & mine))
+            continue;
+        char ms[64];
+        methods_text(METHOD_OPTIONS[i].methods, ms, sizeof ms);
+        return vp_cli_die(2, "pack: --%s goes with --method %s, not %s",
+                          option_name(METHOD_OPTIONS[i].id), ms, o->method);
+    }
+    return 0;
+}
+
+/* getopt_long's refusal of argument `arg` as one line: an unknown option,
+ * an ambiguous abbreviation (naming the candidates), a value missing or
+ * given to an option that takes none. */
+static int option_error(int c, const char *arg) {
+    if (c == ':') {
+        const char *name = optopt >= OPT_FORMAT ? option_name(optopt) : NULL;
+        if (name) return vp_cli_die(2, "pack: --%s needs a value", name);
+        if (optopt) return vp_cli_die(2, "pack: -%c needs a value", optopt);
+        return vp_cli_die(2, "pack: %s needs a value", arg);
+    }
+    if (optopt >= OPT_FORMAT)
+        return vp_cli_die(2, "pack: --%s takes no value ('%s')", option_name(optopt), arg);
+    if (optopt) return vp_cli_die(2, "pack: unknown option '-%c' (see vdbpack pack --help)", optopt);
+    if (!strncmp(arg, "--", 2)) {
+        size_t n = strcspn(arg + 2, "=");
+        char cands[512] = "";
+        int k = 0;
+        for (const struct option *lo = PACK_OPTIONS; lo->name; lo++)
+            if (n && !strncmp(lo->name, arg + 2, n)) {
+                size_t at = strlen(cands);
+                snprintf(cands + at, sizeof cands - at, "%s--%s", k++ ? ", " : "", lo->name);
+            }
+        if (k > 1)
+            return vp_cli_die(2, "pack: option '%.*s' is ambiguous (%s)", (int)n + 2, arg, cands);
+    }
+    return vp_cli_die(2, "pack: unknown option '%s' (see vdbpack pack --help)", arg);
+}
+
+/* One option (id c, value v, NULL for flags) into o. */
+static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int *have_count) {
+    switch (c) {
+    case OPT_OUTPUT: o->output = v; break;
+    case OPT_FORMAT: o->format = v; break;
+    case OPT_METHOD:
+        if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0 &&
+            strcmp(v, "jam") != 0)
+            return vp_cli_die(2, "pack: unknown --method '%s' (lattice, rsa, relax, jam)", v);
+        o->method = v;
+        break;
+    case OPT_SHAPE: {
+        int sr = vp_shape_parse_param(v, &o->shape, &o->shape_param);
+        if (sr == -2)
+            return vp_cli_die(2, "pack: --shape '%s': a superball's exponent P "
+                                 "(superball:P) must be a number in [0.5, 1000] (convex "
+                                 "superballs; concave ones, P < 0.5, are not offered)", v);
+        if (sr != 0) {
+            /* not a built-in name: a mesh file, when it looks like one */
+            if (!strchr(v, '.') && !strchr(v, '/'))
+                return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, a platonic or "
+                                     "Archimedean solid such as cube or truncated-octahedron "
+                                     "(vdbpack pack --help lists them), superball:P, "
+                                     "or a closed mesh file such as shape.obj)", v);
+            o->shape = VP_SHAPE_MESH;
+            o->shape_file = v;
+        }
+        break;
+    }
+    case OPT_ORIENT:
+        if (!strcmp(v, "random")) o->orient = VP_ORIENT_RANDOM;
+        else if (!strcmp(v, "fixed")) o->orient = VP_ORIENT_FIXED;
+        else return vp_cli_die(2, "pack: unknown --orient '%s' (random, fixed)", v);
+        break;
+    case OPT_OVERLAP:
+        if (!strcmp(v, "exact")) o->overlap = VP_OVERLAP_EXACT;
+        else if (!strcmp(v, "bbox")) o->overlap = VP_OVERLAP_BBOX;
+        else return vp_cli_die(2, "pack: unknown --overlap '%s' (exact, bbox)", v);
+        break;
+    case OPT_LATTICE:
+        if (vp_lattice_parse(v, &o->lattice) != 0)
+            return vp_cli_die(2, "pack: unknown --lattice '%s' (sc, bcc, fcc, hcp, densest)", v);
+        break;
+    case OPT_RADIUS:
+        o->radius_text = v; /* a number, or a distribution for rsa/relax: see below */
+        *have_radius = 1;
+        break;
+    case OPT_COUNT:
+        if (!strcmp(v, "max")) {
+            o->count_max = 1;
+        } else if (vp_cli_parse_u64(v, &o->count) != 0 || o->count == 0) {
+            return vp_cli_die(2, "pack: --count must be a whole number > 0%s, not '%s'",
+                              " (or max with --method rsa)", v);
+        }
+        *have_count = 1;
+        break;
+    case OPT_PASS: {
+        if (o->npasses >= VP_MAX_GROUPS)
+            return vp_cli_die(2, "pack: at most %d --pass options", VP_MAX_GROUPS);
+        int rc = vp_cli_parse_pass(v, &o->passes[o->npasses]);
+        if (rc) return rc;
+        o->npasses++;
+        break;
+    }
+    case OPT_RETRIES:
+        if (vp_cli_parse_u64(v, &o->retries) != 0 || o->retries == 0 || o->retries > 1000000000)
+            return vp_cli_die(2, "pack: --retries must be a whole number in 1..1e9, not '%s'", v);
+        break;
+    case OPT_GROW: o->grow = 1; break;
+    case OPT_TARGET_FRACTION:
+        if (vp_cli_parse_double(v, &o->target_fraction) != 0 || !(o->target_fraction > 0) ||
+            !(o->target_fraction < 1))
+            return vp_cli_die(2, "pack: --target-fraction must be a number in (0, 1), not '%s'",
+                              v);
+        break;
+    case OPT_TOLERANCE:
+        if (vp_cli_parse_double(v, &o->tolerance) != 0 || !(o->tolerance > 0) ||
+            !(o->tolerance < 0.1))
+            return vp_cli_die(2, "pack: --tolerance must be a number in (0, 0.1), not '%s'", v);
+        break;
+    case OPT_FIT:
+        if (!strcmp(v, "inside")) o->fit = VP_FIT_INSIDE;
+        else if (!strcmp(v, "center") || !strcmp(v, "centre")) o->fit = VP_FIT_CENTER;
+        else return vp_cli_die(2, "pack: unknown --fit '%s' (inside, center)", v);
+        break;
+    case OPT_OFFSETS:
+        if (vp_cli_parse_u64(v, &o->offsets) != 0 || o->offsets == 0 || o->offsets > 1000000)
+            return vp_cli_die(2, "pack: --offsets must be a whole number in 1..1000000, not '%s'",
+                              v);
+        break;
+    case OPT_ROTATE: o->rotate = 1; break;
+    case OPT_ROTATIONS:
+        if (vp_cli_parse_u64(v, &o->rotations) != 0 || o->rotations == 0 ||
+            o->rotations > 100000)
+            return vp_cli_die(2, "pack: --rotations must be a whole number in 1..100000, not "
+                                 "'%s'", v);
+        o->rotate = 1;
+        break;
+    case OPT_SEED:
+        if (vp_cli_parse_u64(v, &o->seed) != 0)
+            return vp_cli_die(2, "pack: --seed must be a whole number >= 0, not '%s'", v);
+        break;
+    case OPT_VOXEL_SIZE:
+        if (vp_cli_parse_double(v, &o->voxel_size) != 0 || !(o->voxel_size > 0))
+            return vp_cli_die(2, "pack: --voxel-size must be a positive number, not '%s'", v);
+        break;
+    case OPT_ALLOW_OPEN:
+        return vp_cli_die(2, "pack: --allow-open was removed in 0.2.0: an open mesh now gets "
+                             "the inside its winding number gives (--inside auto, the "
+                             "default; --inside winding forces it); see CHANGELOG.md");
+    case OPT_INSIDE:
+        if (vp_inside_parse(v, &o->inside) != 0)
+            return vp_cli_die(2, "pack: unknown --inside '%s' (auto, closed, winding)", v);
+        o->inside_set = 1;
+        break;
+    case OPT_ISO:
+        if (vp_cli_parse_double(v, &o->iso) != 0)
+            return vp_cli_die(2, "pack: --iso must be a number, not '%s'", v);
+        o->has_iso = 1;
+        break;
+    case OPT_GRID: o->grid = v; break;
+    case OPT_PRECISION:
+        if (!strcmp(v, "full") || !strcmp(v, "float")) o->full_precision = 1;
+        else if (!strcmp(v, "fixed16") || !strcmp(v, "16")) o->full_precision = 0;
+        else return vp_cli_die(2, "pack: unknown --precision '%s' (fixed16, full)", v);
+        o->precision_set = 1;
+        break;
+    case OPT_SAVE_CONTAINER: o->save_container = v; break;
+    case OPT_SHAPE_OUT: o->shape_out = v; break;
+    case OPT_PREVIEW: {
+        int rc = vp_cli_preview_path_check("pack: --preview", v);
+        if (rc) return rc;
+        o->preview = v;
+        break;
+    }
+    case OPT_THREADS:
+        if (vp_cli_parse_u64(v, &o->threads) != 0 || o->threads == 0 || o->threads > 256)
+            return vp_cli_die(2, "pack: --threads must be a whole number in 1..256, not '%s'", v);
+        break;
+    case OPT_MAX_MEMORY:
+        if (vp_cli_parse_size(v, &o->max_memory) != 0)
+            return vp_cli_die(2, "pack: --max-memory must be a size such as 8G or 500M, not "
+                                 "'%s'", v);
+        break;
+    case OPT_JSON: o->json = 1; break;
+    case OPT_QUIET: o->quiet = 1; break;
+    case OPT_ALLOW_SHORT: o->allow_short = 1; break;
+    case OPT_PROGRESS: o->progress = 1; break;
+    case OPT_MARGIN:
+    case OPT_GAP: {
+        double *x = c == OPT_MARGIN ? &o->margin : &o->gap;
+        if (vp_cli_parse_double(v, x) != 0 || !(*x >= 0))
+            return vp_cli_die(2, "pack: --%s must be a distance >= 0 (world units), not '%s'",
+                              option_name(c), v);
+        break;
+    }
+    default: break;
+    }
+    return 0;
+}
+
+static int take_container(pack_opts *o, const char *a) {
+    if (o->container)
+        return vp_cli_die(2, "pack: more than one container given ('%s' and '%s')", o->container,
+                          a);
+    o->container = a;
     return 0;
 }
 
@@ -241,186 +635,45 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     o->seed = 1;
     int have_radius = 0, have_count = 0;
     vp_cli_seen seen = {0};
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i], *v = NULL;
-        int rc = 0;
-        /* every value option once, but --pass (one per pass) */
-#define VALUE()                                                                                \
-    do {                                                                                       \
-        if ((rc = need_value(argc, argv, &i, &v)) != 0) return rc;                             \
-        if (strcmp(a, "--pass") && (rc = vp_cli_once(&seen, "pack", a, v)) != 0) return rc;    \
-    } while (0)
-        if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-            VALUE();
-            o->output = v;
-        } else if (!strcmp(a, "--format")) {
-            VALUE();
-            o->format = v;
-        } else if (!strcmp(a, "--method")) {
-            VALUE();
-            if (strcmp(v, "lattice") != 0 && strcmp(v, "rsa") != 0 && strcmp(v, "relax") != 0 &&
-                strcmp(v, "jam") != 0)
-                return vp_cli_die(2, "pack: unknown --method '%s' (lattice, rsa, relax, jam)", v);
-            o->method = v;
-        } else if (!strcmp(a, "--shape")) {
-            VALUE();
-            int sr = vp_shape_parse_param(v, &o->shape, &o->shape_param);
-            if (sr == -2)
-                return vp_cli_die(2, "pack: --shape '%s': a superball's exponent P "
-                                     "(superball:P) must be a number in [0.5, 1000] (convex "
-                                     "superballs; concave ones, P < 0.5, are not offered)", v);
-            if (sr != 0) {
-                /* not a built-in name: a mesh file, when it looks like one */
-                if (!strchr(v, '.') && !strchr(v, '/'))
-                    return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, a platonic or "
-                                         "Archimedean solid such as cube or truncated-octahedron "
-                                         "(vdbpack pack --help lists them), superball:P, "
-                                         "or a closed mesh file such as shape.obj)", v);
-                o->shape = VP_SHAPE_MESH;
-                o->shape_file = v;
-            }
-        } else if (!strcmp(a, "--orient")) {
-            VALUE();
-            if (!strcmp(v, "random")) o->orient = VP_ORIENT_RANDOM;
-            else if (!strcmp(v, "fixed")) o->orient = VP_ORIENT_FIXED;
-            else return vp_cli_die(2, "pack: unknown --orient '%s' (random, fixed)", v);
-        } else if (!strcmp(a, "--overlap")) {
-            VALUE();
-            if (!strcmp(v, "exact")) o->overlap = VP_OVERLAP_EXACT;
-            else if (!strcmp(v, "bbox")) o->overlap = VP_OVERLAP_BBOX;
-            else return vp_cli_die(2, "pack: unknown --overlap '%s' (exact, bbox)", v);
-        } else if (!strcmp(a, "--lattice")) {
-            VALUE();
-            if (vp_lattice_parse(v, &o->lattice) != 0)
-                return vp_cli_die(2, "pack: unknown --lattice '%s' (sc, bcc, fcc, hcp, densest)",
-                                  v);
-        } else if (!strcmp(a, "--radius")) {
-            VALUE();
-            o->radius_text = v; /* a number, or a distribution for rsa/relax: see below */
-            have_radius = 1;
-        } else if (!strcmp(a, "--count")) {
-            VALUE();
-            if (!strcmp(v, "max")) {
-                o->count_max = 1;
-            } else if (vp_cli_parse_u64(v, &o->count) != 0 || o->count == 0) {
-                return vp_cli_die(2, "pack: --count must be a whole number > 0%s, not '%s'",
-                                  " (or max with --method rsa)", v);
-            }
-            have_count = 1;
-        } else if (!strcmp(a, "--pass")) {
-            VALUE();
-            if (o->npasses >= VP_MAX_GROUPS)
-                return vp_cli_die(2, "pack: at most %d --pass options", VP_MAX_GROUPS);
-            if ((rc = vp_cli_parse_pass(v, &o->passes[o->npasses])) != 0) return rc;
-            o->npasses++;
-        } else if (!strcmp(a, "--retries")) {
-            VALUE();
-            if (vp_cli_parse_u64(v, &o->retries) != 0 || o->retries == 0 ||
-                o->retries > 1000000000)
-                return vp_cli_die(2, "pack: --retries must be a whole number in 1..1e9, not '%s'",
-                                  v);
-        } else if (!strcmp(a, "--grow")) {
-            o->grow = 1;
-        } else if (!strcmp(a, "--target-fraction")) {
-            VALUE();
-            if (vp_cli_parse_double(v, &o->target_fraction) != 0 || !(o->target_fraction > 0) ||
-                !(o->target_fraction < 1))
-                return vp_cli_die(2, "pack: --target-fraction must be a number in (0, 1), "
-                                     "not '%s'", v);
-        } else if (!strcmp(a, "--tolerance")) {
-            VALUE();
-            if (vp_cli_parse_double(v, &o->tolerance) != 0 || !(o->tolerance > 0) ||
-                !(o->tolerance < 0.1))
-                return vp_cli_die(2, "pack: --tolerance must be a number in (0, 0.1), not '%s'",
-                                  v);
-        } else if (!strcmp(a, "--fit")) {
-            VALUE();
-            if (!strcmp(v, "inside")) o->fit = VP_FIT_INSIDE;
-            else if (!strcmp(v, "center") || !strcmp(v, "centre")) o->fit = VP_FIT_CENTER;
-            else return vp_cli_die(2, "pack: unknown --fit '%s' (inside, center)", v);
-        } else if (!strcmp(a, "--offsets")) {
-            VALUE();
-            if (vp_cli_parse_u64(v, &o->offsets) != 0 || o->offsets == 0 || o->offsets > 1000000)
-                return vp_cli_die(2, "pack: --offsets must be a whole number in 1..1000000, "
-                                     "not '%s'", v);
-        } else if (!strcmp(a, "--rotate")) {
-            o->rotate = 1;
-        } else if (!strcmp(a, "--rotations")) {
-            VALUE();
-            if (vp_cli_parse_u64(v, &o->rotations) != 0 || o->rotations == 0 ||
-                o->rotations > 100000)
-                return vp_cli_die(2, "pack: --rotations must be a whole number in 1..100000, "
-                                     "not '%s'", v);
-            o->rotate = 1;
-        } else if (!strcmp(a, "--seed")) {
-            VALUE();
-            if (vp_cli_parse_u64(v, &o->seed) != 0)
-                return vp_cli_die(2, "pack: --seed must be a whole number >= 0, not '%s'", v);
-        } else if (!strcmp(a, "--voxel-size")) {
-            VALUE();
-            if (vp_cli_parse_double(v, &o->voxel_size) != 0 || !(o->voxel_size > 0))
-                return vp_cli_die(2, "pack: --voxel-size must be a positive number, not '%s'", v);
-        } else if (!strcmp(a, "--allow-open")) {
-            return vp_cli_die(2, "pack: --allow-open was removed in 0.2.0: an open mesh now gets "
-                                 "the inside its winding number gives (--inside auto, the "
-                                 "default; --inside winding forces it); see CHANGELOG.md");
-        } else if (!strcmp(a, "--inside")) {
-            VALUE();
-            if (vp_inside_parse(v, &o->inside) != 0)
-                return vp_cli_die(2, "pack: unknown --inside '%s' (auto, closed, winding)", v);
-            o->inside_set = 1;
-        } else if (!strcmp(a, "--iso")) {
-            VALUE();
-            if (vp_cli_parse_double(v, &o->iso) != 0)
-                return vp_cli_die(2, "pack: --iso must be a number, not '%s'", v);
-            o->has_iso = 1;
-        } else if (!strcmp(a, "--grid")) {
-            VALUE();
-            o->grid = v;
-        } else if (!strcmp(a, "--precision")) {
-            VALUE();
-            if (!strcmp(v, "full") || !strcmp(v, "float")) o->full_precision = 1;
-            else if (!strcmp(v, "fixed16") || !strcmp(v, "16")) o->full_precision = 0;
-            else return vp_cli_die(2, "pack: unknown --precision '%s' (fixed16, full)", v);
-            o->precision_set = 1;
-        } else if (!strcmp(a, "--save-container")) {
-            VALUE();
-            o->save_container = v;
-        } else if (!strcmp(a, "--shape-out")) {
-            VALUE();
-            o->shape_out = v;
-        } else if (!strcmp(a, "--preview")) {
-            VALUE();
-            if ((rc = vp_cli_preview_path_check("pack: --preview", v)) != 0) return rc;
-            o->preview = v;
-        } else if (!strcmp(a, "--threads")) {
-            VALUE();
-            if (vp_cli_parse_u64(v, &o->threads) != 0 || o->threads == 0 || o->threads > 256)
-                return vp_cli_die(2, "pack: --threads must be a whole number in 1..256, not '%s'",
-                                  v);
-        } else if (!strcmp(a, "--max-memory")) {
-            VALUE();
-            if (vp_cli_parse_size(v, &o->max_memory) != 0)
-                return vp_cli_die(2, "pack: --max-memory must be a size such as 8G or 500M, "
-                                     "not '%s'", v);
-        } else if (!strcmp(a, "--json")) {
-            o->json = 1;
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            o->quiet = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return vp_cli_die(2, "pack: unknown option '%s' (see vdbpack pack --help)", a);
-        } else if (!o->container) {
-            o->container = a;
+    unsigned char given[OPT_PROGRESS - OPT_FORMAT + 1] = {0};
+    /* getopt_long on a copy from "pack" on: argv itself (the command line
+     * the file records) stays as given. "-" first: arguments in order, the
+     * container as option 1; ":" a missing value as ':' */
+    int n = argc - 1;
+    char **args = malloc((size_t)(n + 1) * sizeof *args);
+    if (!args) return vp_cli_die(1, "out of memory");
+    memcpy(args, argv + 1, (size_t)n * sizeof *args);
+    args[n] = NULL;
+    optind = 0; /* a full re-initialisation (glibc): parse_pack may run more than once */
+    opterr = 0;
+    int rc = 0, c, idx;
+    while (!rc && (c = getopt_long(n, args, "-:o:qh", PACK_OPTIONS, &idx)) != -1) {
+        const char *v = optarg;
+        if (c == '?' || c == ':') {
+            rc = option_error(c, args[optind - 1]);
+        } else if (c == 1) {
+            rc = take_container(o, v);
         } else {
-            return vp_cli_die(2, "pack: more than one container given ('%s' and '%s')",
-                              o->container, a);
+            if (c >= OPT_FORMAT) given[c - OPT_FORMAT] = 1;
+            /* every value option once, but --pass (one per pass); -o and
+             * --output are one option */
+            if (v && c != OPT_PASS) {
+                /* as typed: -o, or the long name (an abbreviation in full);
+                 * vp_cli_once keeps the pointer: a string that stays */
+                const char *opt_arg = v == args[optind - 1] ? args[optind - 2] : args[optind - 1];
+                const char *typed = c == OPT_OUTPUT && opt_arg[1] != '-' ? "-o" : dashed_name(c);
+                rc = vp_cli_once(&seen, "pack", typed, v);
+            }
+            if (!rc) rc = take_option(c, v, o, &have_radius, &have_count);
         }
-#undef VALUE
     }
+    for (int i = optind; !rc && i < n; i++) rc = take_container(o, args[i]); /* after -- */
+    free(args);
+    if (rc) return rc;
     if (!o->container || !*o->container)
         return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
     if (!o->output) return vp_cli_die(2, "pack: no output given: use -o OUT.vdb");
-    int rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
+    rc = vp_cli_output_format("pack", o->output, o->format, &o->out_format);
     if (rc) return rc;
     if (o->shape_out && vp_format_from_path(o->shape_out) != VP_FORMAT_OBJ)
         return vp_cli_die(2, "pack: --shape-out writes OBJ: give a name ending in .obj, not '%s'",
@@ -445,6 +698,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
                 return vp_cli_die(2, "pack: %s and %s name the same file (%s)", names[k],
                                   names[i], outs[i]);
     }
+    rc = check_option_methods(o, given);
+    if (rc) return rc;
     rc = check_method_options(o, have_radius, have_count);
     if (rc) return rc;
     return 0;
@@ -500,6 +755,47 @@ static const char *lattice_label(const pack_opts *o) {
 
 static const char *stop_name(vp_rsa_stop s) {
     return s == VP_RSA_STOP_COUNT ? "count" : s == VP_RSA_STOP_RETRIES ? "retries" : "maximal";
+}
+
+/* Volume of one particle of bounding radius 1 (o->mesh loaded first). */
+static double unit_volume(const pack_opts *o) {
+    return o->mesh ? vp_mesh_shape_volume(o->mesh)
+                   : vp_shape_unit_volume_param(o->shape, o->shape_param);
+}
+
+/* rsa --count N without --radius: the radius at which N particles fill
+ * target_fraction of the container. */
+static double rsa_count_radius(const pack_opts *o, const vp_container_info *ci) {
+    return cbrt(o->target_fraction * ci->volume / ((double)o->count * unit_volume(o)));
+}
+
+/* The passes that placed fewer than they asked for (a maximal pass never
+ * does): how many, and the totals asked and placed over them. */
+static int shortfall(const pack_opts *o, const vp_rsa_report *r, size_t *asked, size_t *placed) {
+    int n = 0;
+    *asked = *placed = 0;
+    if (strcmp(o->method, "rsa") != 0) return 0;
+    for (size_t i = 0; i < r->npasses; i++) {
+        if (o->passes[i].maximal || r->passes[i].placed >= r->passes[i].requested) continue;
+        n++;
+        *asked += r->passes[i].requested;
+        *placed += r->passes[i].placed;
+    }
+    return n;
+}
+
+static double smallest_radius(const pack_opts *o, const vp_container_info *ci);
+
+/* A margin that leaves no centre: analytic containers know their inradius
+ * (others: the packer finds no room, and says so). */
+static int margin_check(const pack_opts *o, const vp_container_info *ci) {
+    if (!(o->margin > 0) || ci->kind != VP_CONTAINER_ANALYTIC) return 0;
+    double in = HUGE_VAL;
+    for (int k = 0; k < 3; k++) in = fmin(in, 0.5 * (ci->bmax[k] - ci->bmin[k]));
+    double r = o->fit == VP_FIT_INSIDE ? smallest_radius(o, ci) : 0.0;
+    if (o->margin + r < in) return 0;
+    return vp_cli_die(2, "pack: --margin %g%s leave%s no room in %s, whose inradius is %g", o->margin,
+                      r > 0 ? " and the smallest radius" : "", r > 0 ? "" : "s", o->container, in);
 }
 
 /* Lattice --count: the radius the packer starts from (the infinite
@@ -580,6 +876,8 @@ static void rsa_params(const pack_opts *o, vp_rsa_params *rp) {
     rp->passes = o->passes;
     rp->npasses = (size_t)o->npasses;
     rp->seed = o->seed;
+    rp->margin = o->margin;
+    rp->gap = o->gap;
 }
 
 static void relax_params(const pack_opts *o, vp_relax_params *xp) {
@@ -618,6 +916,14 @@ static void container_params(const pack_opts *o, vp_container_params *cp) {
         vp_rsa_params rp;
         rsa_params(o, &rp);
         vp_container_params_for_rsa(cp, &rp);
+        if (o->rsa_count_radius) { /* the radius follows from the volume */
+            cp->particle_radius = 0;
+            cp->particle_count = (size_t)o->count;
+            cp->space_per_particle = unit_volume(o) / o->target_fraction;
+        }
+        /* the level set's interior band must reach the margin's depth (its
+         * values are clamped beyond the band) */
+        if (o->margin > 0 && cp->particle_radius > 0) cp->particle_radius += o->margin;
     } else if (!strcmp(o->method, "jam")) {
         vp_jam_params jp;
         jam_params(o, &jp);
@@ -664,6 +970,22 @@ static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o
         rr->max_radius = m;
     }
     return r;
+}
+
+/* Per pass, what was asked (which = 0: the count, or "max") or placed
+ * (1), comma-separated in pass order, for metadata ("20000,max"). */
+static void counts_text(const pack_opts *o, const vp_rsa_report *r, int which, char *out,
+                        size_t outlen) {
+    size_t at = 0;
+    out[0] = 0;
+    for (size_t i = 0; i < r->npasses && at < outlen; i++) {
+        int n = !which && o->passes[i].maximal
+                    ? snprintf(out + at, outlen - at, "%smax", i ? "," : "")
+                    : snprintf(out + at, outlen - at, "%s%zu", i ? "," : "",
+                               which ? r->passes[i].placed : r->passes[i].requested);
+        if (n < 0) break;
+        at += (size_t)n;
+    }
 }
 
 /* The --pass options as text, for metadata ("count=N,radius=R;..."). */
@@ -729,6 +1051,10 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
     }
     printf(",\"count\":%zu,\"requested_count\":%llu,\"packing_fraction\":%.17g", p->count,
            (unsigned long long)o->count, fraction);
+    {
+        size_t asked, placed;
+        printf(",\"short\":%s", shortfall(o, &rr->rsa, &asked, &placed) ? "true" : "false");
+    }
     printf(",\"max_radius\":%.17g", rr->max_radius);
     if (!strcmp(o->method, "lattice")) {
         const vp_lattice_report *l = &rr->lat;
@@ -744,6 +1070,9 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
             printf(",\"orient\":\"%s\",\"overlap\":\"%s\"",
                    o->orient == VP_ORIENT_FIXED ? "fixed" : "random",
                    o->overlap == VP_OVERLAP_BBOX ? "bbox" : "exact");
+        if (o->rsa_count_radius)
+            printf(",\"target_fraction\":%.17g", o->target_fraction);
+        printf(",\"margin\":%.17g,\"gap\":%.17g", o->margin, o->gap);
         printf(",\"passes\":[");
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
             const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
@@ -751,10 +1080,11 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
             vp_size_dist_format(&o->passes[i].radius, sz, sizeof sz);
             printf("%s{\"group\":\"%s\",\"radius\":\"%s\",\"requested\":%zu,\"maximal\":%s,"
                    "\"placed\":%zu,\"stop\":\"%s\",\"tries\":%llu,\"cell_budget_reached\":%s,"
-                   "\"grow\":%s,\"grow_mean\":%.17g,\"seconds\":%.6f}",
+                   "\"short\":%s,\"grow\":%s,\"grow_mean\":%.17g,\"seconds\":%.6f}",
                    i ? "," : "", p->group_names[i], sz, pr->requested,
                    o->passes[i].maximal ? "true" : "false", pr->placed, stop_name(pr->stop),
                    (unsigned long long)pr->tries, pr->budget_hit ? "true" : "false",
+                   !o->passes[i].maximal && pr->placed < pr->requested ? "true" : "false",
                    o->passes[i].grow ? "true" : "false",
                    pr->grow_mean, pr->seconds);
         }
@@ -825,6 +1155,13 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
         printf("\n  packing fraction %.4f (the infinite lattice: %.4f)\n", fraction,
                l->lattice_fraction);
     } else if (!strcmp(o->method, "rsa")) {
+        if (o->rsa_count_radius)
+            printf("  radius %.6g: %llu of them fill %.3g of the container (--target-fraction)\n",
+                   vp_size_dist_max(&o->passes[0].radius), (unsigned long long)o->count,
+                   o->target_fraction);
+        if (o->margin > 0 || o->gap > 0)
+            printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
+                   o->gap);
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
             const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
             char sz[256];
@@ -918,7 +1255,12 @@ int vp_cli_pack(int argc, char **argv) {
     }
     if (o.threads) vp_context_set_threads(ctx, (int)o.threads);
     if (o.max_memory) vp_context_set_max_memory(ctx, o.max_memory);
-    progress prog = {now(), 0, !o.quiet && !o.json && isatty(2), 0.0};
+    progress prog;
+    memset(&prog, 0, sizeof prog);
+    prog.start = now();
+    prog.lines = o.progress;
+    prog.bar = !o.progress && !o.quiet && !o.json && isatty(2);
+    prog.phase = "starting";
     vp_context_set_progress(ctx, on_progress, &prog);
     vp_cli_signals_install();
 
@@ -950,6 +1292,7 @@ int vp_cli_pack(int argc, char **argv) {
     if (an == 0) {
         vp_container_params cp;
         container_params(&o, &cp);
+        progress_phase(&prog, "loading", 0.3);
         if (vp_container_load(ctx, o.container, &cp, &c) != VP_OK) {
             status = lib_error(ctx);
             goto done;
@@ -972,6 +1315,20 @@ int vp_cli_pack(int argc, char **argv) {
                             ci.voxel_size, VP_POINTS_MIN_VOXEL, VP_POINTS_MIN_VOXEL);
         goto done;
     }
+    if (o.rsa_count_radius) {
+        double r = rsa_count_radius(&o, &ci);
+        if (!(r >= FLT_MIN) || !(r <= FLT_MAX)) {
+            status = count_radius_too_small(&o, "", r);
+            goto done;
+        }
+        vp_size_dist_constant(&o.passes[0].radius, r);
+        if (o.gap > 0 && !(o.gap < r)) {
+            status = vp_cli_die(2, "pack: --gap %g must be smaller than the radius %g that "
+                                   "--count %llu gives", o.gap, r, (unsigned long long)o.count);
+            goto done;
+        }
+    }
+    if ((status = margin_check(&o, &ci)) != 0) goto done;
     if (!strcmp(o.method, "lattice") && o.count && !(lattice_count_radius(&o, &ci) >= FLT_MIN)) {
         status = count_radius_too_small(&o, "about ", lattice_count_radius(&o, &ci));
         goto done;
@@ -981,6 +1338,8 @@ int vp_cli_pack(int argc, char **argv) {
     status = 1;
 
     run_result rr;
+    /* what is left: packing, then writing (and a preview) */
+    progress_phase(&prog, "packing", o.preview ? 0.8 : 0.9);
     if (run_method(ctx, c, &o, &p, &rr) != VP_OK) {
         status = lib_error(ctx);
         goto done;
@@ -1011,10 +1370,13 @@ int vp_cli_pack(int argc, char **argv) {
     }
 
     char cmdline[4096], method_params[4096] = "";
+    char requested_text[VP_MAX_GROUPS * 24] = "", placed_text[VP_MAX_GROUPS * 24] = "";
+    size_t short_asked = 0, short_placed = 0;
+    int nshort = shortfall(&o, &rr.rsa, &short_asked, &short_placed);
     join_args(argc, argv, cmdline, sizeof cmdline);
     const char *cname = strrchr(o.container, '/');
     cname = cname ? cname + 1 : o.container;
-    vp_meta meta[24] = {
+    vp_meta meta[32] = {
         {"creator", VP_META_STRING, "vdbpack " VP_VERSION_STRING, 0, 0},
         {"command_line", VP_META_STRING, cmdline, 0, 0},
         {"seed", VP_META_INT, NULL, (int64_t)o.seed, 0},
@@ -1039,6 +1401,16 @@ int vp_cli_pack(int argc, char **argv) {
     } else if (!strcmp(o.method, "rsa")) {
         passes_text(&o, method_params, sizeof method_params);
         meta[nmeta++] = (vp_meta){"passes", VP_META_STRING, method_params, 0, 0};
+        counts_text(&o, &rr.rsa, 0, requested_text, sizeof requested_text);
+        counts_text(&o, &rr.rsa, 1, placed_text, sizeof placed_text);
+        meta[nmeta++] = (vp_meta){"requested", VP_META_STRING, requested_text, 0, 0};
+        meta[nmeta++] = (vp_meta){"placed", VP_META_STRING, placed_text, 0, 0};
+        meta[nmeta++] = (vp_meta){"short", VP_META_INT, NULL, nshort > 0, 0};
+        if (o.margin > 0) meta[nmeta++] = (vp_meta){"margin", VP_META_DOUBLE, NULL, 0, o.margin};
+        if (o.gap > 0) meta[nmeta++] = (vp_meta){"gap", VP_META_DOUBLE, NULL, 0, o.gap};
+        if (o.rsa_count_radius)
+            meta[nmeta++] = (vp_meta){"target_fraction", VP_META_DOUBLE, NULL, 0,
+                                      o.target_fraction};
         if (o.shape != VP_SHAPE_SPHERE) {
             meta[nmeta++] = (vp_meta){"orient", VP_META_STRING,
                                       o.orient == VP_ORIENT_FIXED ? "fixed" : "random", 0, 0};
@@ -1069,6 +1441,7 @@ int vp_cli_pack(int argc, char **argv) {
     vp_write_report wrep;
     memset(&wrep, 0, sizeof wrep);
     wp.report = &wrep;
+    progress_phase(&prog, "writing", o.preview ? 0.5 : 1.0);
     if (vp_cli_write_particles(ctx, o.output, o.out_format, p, &wp, o.quiet) != 0) {
         status = lib_error(ctx);
         goto done;
@@ -1081,6 +1454,7 @@ int vp_cli_pack(int argc, char **argv) {
     if (o.preview) {
         /* the preview is part of the job: if it fails, no output stays */
         vp_cli_signals_track_output(o.output);
+        progress_phase(&prog, "preview", 1.0);
         if (vp_cli_render_particles(ctx, p, NULL, o.preview) != 0) {
             vp_remove_output(o.output);
             status = lib_error(ctx);
@@ -1095,7 +1469,8 @@ int vp_cli_pack(int argc, char **argv) {
     vp_cli_signals_done();
     ncreated = 0; /* success: keep every output */
     double seconds = now() - t0;
-    if (prog.shown) fprintf(stderr, "\r%*s\r", 64, "");
+    if (prog.shown) fprintf(stderr, "\r%*s\r", 96, "");
+    progress_end(&prog);
 
     if (o.json)
         print_json(&o, &ci, p, &rr, &wrep, fraction, vp_context_threads(ctx), seconds);
@@ -1108,11 +1483,20 @@ int vp_cli_pack(int argc, char **argv) {
         const char *outs[4] = {o.output, o.save_container, o.shape_out, o.preview};
         for (int i = 0; i < 4; i++)
             if (outs[i]) vp_remove_output(outs[i]);
+    } else if (nshort) {
+        /* packed, but short: the file stays, a script sees it */
+        if (!o.quiet)
+            fprintf(stderr, "vdbpack: warning: packed, but short: placed %zu of the %zu "
+                            "particles asked for in %d %s; %s\n", short_placed, short_asked,
+                    nshort, nshort == 1 ? "pass" : "passes",
+                    o.allow_short ? "exit status 0 (--allow-short)"
+                                  : "exit status 4 (--allow-short makes it 0)");
+        if (!o.allow_short) status = VP_CLI_EXIT_SHORT;
     }
 
 done:
     for (int i = 0; i < ncreated; i++) vp_remove_output(created[i]);
-    if (prog.shown && status) fprintf(stderr, "\r%*s\r", 64, "");
+    if (prog.shown && status) fprintf(stderr, "\r%*s\r", 96, "");
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);

@@ -48,7 +48,7 @@ static int pair_visit(void *user, uint32_t j) {
     double ri = q->r[q->i], rj = q->r[j], e = ri + rj;
     double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
     double d2 = dx * dx + dy * dy + dz * dz;
-    double reach = e * (1.0 + q->prm->contact_tolerance) + q->slack;
+    double reach = e * (1.0 + q->prm->contact_tolerance) + q->slack + q->prm->gap;
     if (d2 >= reach * reach) return 0;
     double gap, scale;
     if (q->sb > 0) {
@@ -87,7 +87,7 @@ static int pair_visit(void *user, uint32_t j) {
         else
             gap = HUGE_VAL;
     } else if (!q->poly) {
-        gap = sqrt(d2) - e;
+        gap = sqrt(d2) - e - q->prm->gap; /* (the gap asked for: 0 by default) */
         scale = e;
     } else {
         double qa[4], qb[4];
@@ -138,6 +138,13 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     if (!(params->overlap_tolerance >= 0) || !(params->contact_tolerance >= 0) ||
         !(params->position_tolerance >= 0))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: tolerances must be >= 0");
+    if (!(params->margin >= 0) || !(params->gap >= 0) || !isfinite(params->margin) ||
+        !isfinite(params->gap))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: margin and gap must be finite and "
+                                                     ">= 0");
+    if (params->gap > 0 && p->shape != VP_SHAPE_SPHERE)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: a gap is checked between spheres "
+                                                     "in this version");
     vp_check_report rep;
     memset(&rep, 0, sizeof rep);
     rep.count = p->count;
@@ -203,7 +210,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         for (size_t i = 0; i < n; i++) {
             q.i = i;
             double reach = r[i] * (1.0 + params->contact_tolerance) + 2.0 * e +
-                           rmax * params->contact_tolerance;
+                           rmax * params->contact_tolerance + params->gap;
             vp_sgrid_query(&g, p->positions + 3 * i, reach, pair_visit, &q);
             if ((i & 0xffff) == 0 && !vp_report_progress(ctx, 0.9 * (double)i / n, "check")) {
                 vp_sgrid_free(&g);
@@ -240,6 +247,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
             orient_of(p, i, q);
             v = vp_poly_wall_distance(c, poly, r[i], q, x, HUGE_VAL);
         }
+        v += params->margin; /* (0 by default) */
         if (!(v <= wall_tol)) {
             rep.outside++;
             if (!(v <= rep.max_outside)) rep.max_outside = isfinite(v) ? v : HUGE_VAL;

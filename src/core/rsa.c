@@ -146,6 +146,12 @@ typedef struct rsa {
                              level sets (trilinear interpolation) */
     int threads;
     size_t max_cells_param; /* vp_rsa_params.max_cells (0: automatic) */
+    /* margin and gap (spheres): the passes pack spheres inflated by
+     * gap_half = gap / 2 (so that two keep gap between their surfaces),
+     * deflated when done; wall_off is what a sphere, as packed, keeps from
+     * the wall beyond touching it: margin - gap_half with fit inside (its
+     * surface, deflated, keeps margin), margin with fit center (its centre) */
+    double margin, gap_half, wall_off;
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
     int pretest;          /* solids: the pass has one radius (rmin), so darts are
@@ -180,9 +186,11 @@ typedef struct rsa {
  * the fit test for every orientation (the bounding sphere is inside);
  * d > thr_drop(r) fails it (the insphere would cross the wall). The two
  * are equal for spheres; between them a solid's surface decides. */
-static double thr_ok(const rsa *s, double r) { return s->fit == VP_FIT_INSIDE ? -r : 0.0; }
+static double thr_ok(const rsa *s, double r) {
+    return s->fit == VP_FIT_INSIDE ? -r - s->wall_off : -s->wall_off;
+}
 static double thr_drop(const rsa *s, double r) {
-    return s->fit == VP_FIT_INSIDE ? -s->rin * r : 0.0;
+    return s->fit == VP_FIT_INSIDE ? -s->rin * r - s->wall_off : -s->wall_off;
 }
 
 /* --- particle storage ------------------------------------------------------- */
@@ -1276,6 +1284,23 @@ static void make_darts(void *user, size_t ci) {
     }
 }
 
+/* The largest radius a sphere at dart t may have (spheres, serial loop):
+ * its clearance to the particles placed before its batch and since, and
+ * with fit inside to the wall; below rmin when no sphere fits there. Exact
+ * up to rmax (the neighbour queries reach no further). */
+static double dart_room(const rsa *s, const dart *t) {
+    if (!(t->d <= thr_ok(s, s->rmin))) return -HUGE_VAL; /* also a settled dart */
+    double room = t->clr;
+    if (s->fit == VP_FIT_INSIDE && -t->d - s->wall_off < room) room = -t->d - s->wall_off;
+    if (room >= s->rmin && s->p->count > s->n0) {
+        /* (not clearance_since: it stops at the first surface within reach) */
+        clr_query q = {s, t->p, s->rmax, s->rmin, s->n0, SIZE_MAX, SIZE_MAX};
+        vp_sgrid_query_near_from(&s->g, t->p, s->rmax, (uint32_t)s->n0, clr_visit, &q);
+        if (q.best < room) room = q.best;
+    }
+    return room;
+}
+
 /* --- grow ------------------------------------------------------------------------- */
 
 /* Radius particle i can grow to: the distance to the nearest other
@@ -1284,7 +1309,7 @@ static double grow_one(const rsa *s, size_t i, double diag) {
     double x[3];
     ppos(s, i, x);
     double wall = HUGE_VAL;
-    if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x);
+    if (s->fit == VP_FIT_INSIDE) wall = -vp_container_distance(s->c, x) - s->wall_off;
     double reach = wall < HUGE_VAL ? wall : 4.0 * s->p->radii[i];
     for (;;) {
         clr_query q = {s, x, reach, -HUGE_VAL, 0, s->p->count, i};
@@ -1369,10 +1394,12 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     rep->requested = ps->maximal ? 0 : ps->count;
     rep->grow_mean = 1.0;
     /* radii are stored as float: bound the float values drawn */
-    float fmin = (float)vp_size_dist_min(&ps->radius), fmax = (float)vp_size_dist_max(&ps->radius);
-    if (ps->radius.kind != VP_SIZE_CONSTANT) { /* a constant is drawn as (float) itself */
-        if ((double)fmin > vp_size_dist_min(&ps->radius)) fmin = nextafterf(fmin, 0.0f);
-        if ((double)fmax < vp_size_dist_max(&ps->radius)) fmax = nextafterf(fmax, HUGE_VALF);
+    const double g = s->gap_half; /* every radius drawn is packed inflated by it */
+    double dmin = vp_size_dist_min(&ps->radius) + g, dmax = vp_size_dist_max(&ps->radius) + g;
+    float fmin = (float)dmin, fmax = (float)dmax;
+    if (ps->radius.kind != VP_SIZE_CONSTANT || g > 0) { /* a constant is drawn as (float) itself */
+        if ((double)fmin > dmin) fmin = nextafterf(fmin, 0.0f);
+        if ((double)fmax < dmax) fmax = nextafterf(fmax, HUGE_VALF);
     }
     s->rmin = fmin;
     s->rmax = fmax;
@@ -1381,7 +1408,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     s->stream_seed = vp_rng_stream(seed, 2 * (uint64_t)pass_index);
     uint64_t rad_state = vp_rng_stream(seed, 2 * (uint64_t)pass_index + 1);
     const vp_container_info *ci = &s->c->info;
-    double shrink = s->fit == VP_FIT_INSIDE ? s->rmin : 0.0;
+    double shrink = s->fit == VP_FIT_INSIDE ? s->rmin + s->wall_off : s->wall_off;
     double lo[3], hi[3], vol = 1.0;
     for (int k = 0; k < 3; k++) {
         lo[k] = ci->bmin[k] + shrink;
@@ -1391,9 +1418,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (!(hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2])) {
         if (s->p->count == 0)
             return vp_fail(s->ctx, VP_ERR_NO_FIT,
-                           "rsa: pass %u: radius %.9g (as a float) leaves no room for a "
+                           "rsa: pass %u: radius %.9g (as a float)%s leaves no room for a "
                            "centre in the container (its inside is %.6g x %.6g x %.6g)",
-                           pass_index + 1, s->rmin,
+                           pass_index + 1, s->rmin - g,
+                           s->margin > 0 ? " with the margin from the wall" : "",
                            ci->bmax[0] - ci->bmin[0], ci->bmax[1] - ci->bmin[1],
                            ci->bmax[2] - ci->bmin[2]);
         rep->stop = VP_RSA_STOP_MAXIMAL;
@@ -1449,8 +1477,18 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
      * the retry limit ends those passes. */
     if (ps->maximal && !s->solid) retries = SIZE_MAX;
     size_t want = ps->maximal ? SIZE_MAX : ps->count;
+    /* maximal with a distribution of radii (spheres): first as a count
+     * pass (each radius drawn kept until placed) until `retries` tries in a
+     * row fail; then (filling) a dart that has room for the smallest
+     * radius always places one, of the radius drawn or, where that does
+     * not fit, of a radius drawn from the distribution cut at the room
+     * there; so the pass ends, as with one radius, when no cell can hold a
+     * centre of the smallest radius (docs/rsa.md) */
+    int fill_dist = ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT && !s->solid;
+    int filling = 0;
+    size_t fill_after = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
     size_t first = s->p->count, consecutive = 0;
-    double cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
+    double cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
     uint64_t dart_index = 0;
     size_t level_darts = 0; /* darts thrown at this level */
     size_t renumbered = first;
@@ -1498,6 +1536,18 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                         solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
             } else if (s->solid) {
                 good = dart_solid_free(s, t, cur_r);
+                /* solids, maximal, sizes: the next try draws anew (the
+                 * retry limit ends the pass) */
+                if (!good && ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT)
+                    cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
+            } else if (filling) {
+                double room = dart_room(s, t);
+                if ((good = room >= s->rmin) && cur_r > room) {
+                    cur_r = (double)(float)(vp_size_dist_sample_below(&ps->radius, room - g,
+                                                                        &rad_state) + g);
+                    if (cur_r > room) cur_r = (double)nextafterf((float)cur_r, 0.0f);
+                    if (cur_r < s->rmin) cur_r = s->rmin;
+                }
             } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
                        s->p->count > s->n0) { /* spheres placed in this batch */
                 size_t nnew = s->p->count - s->n0;
@@ -1514,6 +1564,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 }
             }
             if (!good) {
+                if (fill_dist && !filling && consecutive + 1 >= fill_after) {
+                    filling = 1;
+                    consecutive = 0;
+                    continue;
+                }
                 if (++consecutive >= retries) {
                     rep->stop = VP_RSA_STOP_RETRIES;
                     done = 1;
@@ -1569,7 +1624,7 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                 done = 1;
                 break;
             }
-            cur_r = (double)(float)vp_size_dist_sample(&ps->radius, &rad_state);
+            cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
         }
         /* drop the cells that received a sphere, in dart order (swap with
          * the last cell that is not itself being dropped) */
@@ -1603,6 +1658,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                             : s->level == 0 ? SPLIT_DARTS_LEVEL0
                                             : SPLIT_DARTS) * s->ncells) {
             level_darts = 0;
+            if (s->level >= s->max_level && fill_dist && !filling) {
+                filling = 1; /* only the smallest radius ends the pass */
+                consecutive = 0;
+                continue;
+            }
             if (s->level >= s->max_level) {
                 /* cells this small are below the numbers' resolution: what
                  * is left cannot take a centre that differs from a placed one */
@@ -1634,9 +1694,12 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
                        pass_index + 1, retries, cur_r);
     if (rep->placed == 0 && first == 0 && s->p->count == 0)
         return vp_fail(s->ctx, VP_ERR_NO_FIT,
-                       "rsa: pass %u: no sphere of radius %.6g fits in the container (%s)",
-                       pass_index + 1, s->rmin,
-                       s->fit == VP_FIT_INSIDE ? "every sphere wholly inside" : "centres inside");
+                       "rsa: pass %u: no sphere of radius %.6g fits in the container (%s%s)",
+                       pass_index + 1, s->rmin - g,
+                       s->fit == VP_FIT_INSIDE ? "every sphere wholly inside" : "centres inside",
+                       s->margin > 0 ? ", the margin from the wall: is it larger than the "
+                                       "container's inradius?"
+                                     : "");
     if (ps->grow && s->p->count > first) grow_pass(s, first, s->p->count, &rep->grow_mean);
     rep->seconds = vp_seconds() - t0;
     return VP_OK;
@@ -1674,6 +1737,13 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown orientation mode");
     if (params->overlap != VP_OVERLAP_EXACT && params->overlap != VP_OVERLAP_BBOX)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown overlap test");
+    if (!(params->margin >= 0) || !(params->gap >= 0) || !isfinite(params->margin) ||
+        !isfinite(params->gap))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "rsa: margin and gap must be finite and >= 0 (world units)");
+    if ((params->margin > 0 || params->gap > 0) && params->shape != VP_SHAPE_SPHERE)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "rsa: a margin or gap packs spheres in this version");
     if (params->shape != VP_SHAPE_SPHERE && params->overlap == VP_OVERLAP_BBOX &&
         params->orient == VP_ORIENT_RANDOM)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -1697,9 +1767,6 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         if (ps->retries < 0)
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: retries must be > 0",
                            i + 1);
-        if (ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT)
-            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                           "rsa: pass %zu: a maximal pass needs a single radius", i + 1);
         if (!ps->maximal && ps->count == 0)
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: count must be > 0",
                            i + 1);
@@ -1711,10 +1778,19 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                                "rsa: passes %zu and %zu have one group name, '%s'", k + 1, i + 1,
                                ni);
         }
+        if (params->gap > 0 && !(params->gap < a))
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "rsa: pass %zu: the gap %.6g must be smaller than the smallest radius "
+                           "(%.6g)", i + 1, params->gap, a);
         if (a < rmin) rmin = a;
         if (b > rmax) rmax = b;
-        double n = ps->maximal ? 0.4 * ci->volume / (unit_volume * a * a * a)
-                               : (double)ps->count;
+        /* maximal with sizes: between the count of the smallest and that
+         * of the mean volume (the geometric mean of the two) */
+        double n = !ps->maximal ? (double)ps->count
+                   : ps->radius.kind == VP_SIZE_CONSTANT
+                       ? 0.4 * ci->volume / (unit_volume * a * a * a)
+                       : 0.4 * ci->volume /
+                             (unit_volume * sqrt(a * a * a * vp_size_dist_mean_cube(&ps->radius)));
         double fill = 0.4 * ci->volume / (unit_volume * a * a * a);
         estimate += n < fill * 1.2 ? n : fill * 1.2; /* no more than can fit */
         if (ps->radius.kind != VP_SIZE_CONSTANT || (r1 > 0 && a != r1)) equal = 0;
@@ -1784,6 +1860,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     s.fit = params->fit;
     s.threads = vp_threads_for(ctx);
     s.max_cells_param = params->max_cells;
+    s.margin = params->margin;
+    s.gap_half = 0.5 * params->gap;
+    s.wall_off = params->fit == VP_FIT_INSIDE ? s.margin - s.gap_half : s.margin;
     /* trilinear interpolation of exact distances has partial derivatives up
      * to 1 each, so its gradient can reach sqrt(3) near edges */
     s.lipschitz = ci->voxel_size > 0 ? sqrt(3.0) : 1.0;
@@ -1856,7 +1935,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "%s", group_name(params, i, b));
     }
     size_t grid_cells = (size_t)(2.0 * estimate) + 4096;
-    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin, rmax, grid_cells) != 0 ||
+    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin + s.gap_half, rmax + s.gap_half,
+                      grid_cells) != 0 ||
         vp_sgrid_reserve(&s.g, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
         vp_sgrid_free(&s.g);
         free(s.fpos);
@@ -1873,6 +1953,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     vp_sgrid_free(&s.g);
     free(s.cells);
     free(s.darts);
+    if (r == VP_OK && s.gap_half > 0) /* deflated: the gap between them */
+        for (size_t i = 0; i < s.p->count; i++)
+            s.p->radii[i] = (float)((double)s.p->radii[i] - s.gap_half);
     if (r == VP_OK) { /* the centres in world coordinates, as doubles */
         s.p->positions = malloc((s.p->count ? s.p->count : 1) * 3 * sizeof *s.p->positions);
         if (!s.p->positions) r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");

@@ -260,3 +260,45 @@ double vp_size_dist_sample(const vp_size_dist *d, uint64_t *s) {
     }
     return d->a;
 }
+
+/* Standard normal distribution function. */
+static double normal_cdf(double z) { return 0.5 * erfc(-z / sqrt(2.0)); }
+
+double vp_size_dist_sample_below(const vp_size_dist *d, double c, uint64_t *s) {
+    double lo = vp_size_dist_min(d);
+    if (!(c > lo)) return lo;
+    switch (d->kind) {
+    case VP_SIZE_CONSTANT: return d->a;
+    case VP_SIZE_UNIFORM: return d->a + ((c < d->b ? c : d->b) - d->a) * vp_rng_uniform(s);
+    case VP_SIZE_LOGNORMAL: {
+        /* inverse transform of the normal truncated to [-Z, zc], inverted
+         * by bisection: exact to the double, deterministic, and only the
+         * last particles of a maximal pass need it */
+        double mu, sg;
+        lognormal_params(d, &mu, &sg);
+        if (!(sg > 0)) return exp(mu);
+        double zl = -VP_LOGNORMAL_Z, zh = (log(c) - mu) / sg;
+        if (zh > VP_LOGNORMAL_Z) zh = VP_LOGNORMAL_Z;
+        if (!(zh > zl)) return lo;
+        double pl = normal_cdf(zl), u = pl + (normal_cdf(zh) - pl) * vp_rng_uniform(s);
+        double a = zl, b = zh;
+        for (int i = 0; i < 80 && b - a > 1e-15 * (fabs(a) + 1.0); i++) {
+            double m = 0.5 * (a + b);
+            if (normal_cdf(m) < u) a = m;
+            else b = m;
+        }
+        double r = exp(mu + sg * 0.5 * (a + b));
+        return r < lo ? lo : r > c ? c : r;
+    }
+    case VP_SIZE_LIST: {
+        unsigned n = 0;
+        for (unsigned i = 0; i < d->n; i++) n += d->values[i] <= c;
+        if (!n) return lo;
+        unsigned k = (unsigned)(vp_rng_next(s) % n);
+        for (unsigned i = 0; i < d->n; i++)
+            if (d->values[i] <= c && k-- == 0) return d->values[i];
+        return lo;
+    }
+    }
+    return lo;
+}

@@ -8,4 +8,8 @@
 
 /* One radius drawn with the rng state s (see rng.h); deterministic. */
 double vp_size_dist_sample(const vp_size_dist *d, uint64_t *s);
+/* One radius drawn from d conditioned on being at most c (the room a
+ * maximal pass has at a centre): the law of d truncated to [min, c]; the
+ * smallest radius when c is below it. */
+double vp_size_dist_sample_below(const vp_size_dist *d, double c, uint64_t *s);
 #endif
