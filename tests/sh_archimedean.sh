@@ -36,8 +36,9 @@ for s in $SOLIDS; do
     "lat_$s.json" || die "lat_$s: too few contacts"
   passes "rsa_$s" box:1,1,1 --method rsa --shape "$s" --pass count=max,radius=0.08
 done
+# the second pass runs short of 400 by design (exit 4 without --allow-short)
 passes grow_snub box:1,1,1 --method rsa --shape snub_dodecahedron --pass count=30,radius=0.12,grow \
-  --pass count=400,radius=0.06
+  --pass count=400,radius=0.06 --allow-short
 
 echo "=== the file names the shape (vdb_print), render, export"
 if command -v vdb_print >/dev/null; then
