@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // OpenVDB PointDataGrid -> particles (P, pscale, orient, groups; in id order).
 #include "vdb/vdb_internal.hpp"
+#include "vdb/vdb_shape_names.hpp"
 
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/points/AttributeArray.h>
@@ -16,16 +17,6 @@ using namespace vpv;
 namespace vp = openvdb::points;
 
 namespace {
-
-// vp_shape_name()'s names: this layer links none of the core (tests/sh_layers.sh).
-const char *const kShapeNames[] = {"sphere", "tetrahedron", "cube", "octahedron", "dodecahedron",
-                                   "icosahedron", "truncated-tetrahedron", "cuboctahedron",
-                                   "truncated-cube", "truncated-octahedron", "rhombicuboctahedron",
-                                   "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
-                                   "truncated-dodecahedron", "truncated-icosahedron",
-                                   "rhombicosidodecahedron", "truncated-icosidodecahedron",
-                                   "snub-dodecahedron"};
-static_assert(sizeof kShapeNames / sizeof kShapeNames[0] == VP_SHAPE_COUNT, "one name per shape");
 
 void free_particles(vp_particles *p)
 {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Particles -> OpenVDB PointDataGrid "points" (P, pscale, id, orient, groups).
 #include "vdb/vdb_internal.hpp"
+#include "vdb/vdb_shape_names.hpp"
 
 #include <openvdb/points/PointAttribute.h>
 #include <openvdb/points/PointConversion.h>
@@ -58,16 +59,6 @@ struct Orients {
     }
     void get(openvdb::math::Quats &v, size_t n, openvdb::Index) const { get(v, n); }
 };
-
-// vp_shape_name()'s names: this layer links none of the core (tests/sh_layers.sh).
-const char *const kShapeNames[] = {"sphere", "tetrahedron", "cube", "octahedron", "dodecahedron",
-                                   "icosahedron", "truncated-tetrahedron", "cuboctahedron",
-                                   "truncated-cube", "truncated-octahedron", "rhombicuboctahedron",
-                                   "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
-                                   "truncated-dodecahedron", "truncated-icosahedron",
-                                   "rhombicosidodecahedron", "truncated-icosidodecahedron",
-                                   "snub-dodecahedron"};
-static_assert(sizeof kShapeNames / sizeof kShapeNames[0] == VP_SHAPE_COUNT, "one name per shape");
 
 // Memory of a points grid being built (and its point index grid): per
 // leaf node, whatever the points in it (voxel offsets, attribute arrays and
