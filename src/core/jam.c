@@ -505,13 +505,6 @@ static sums add_up(const jam *s, int col_max4) {
     return t;
 }
 
-typedef struct minimum {
-    double e;       /* energy per sphere / dmean^2 */
-    double rms;     /* rms force / dmean */
-    long steps;
-    int jammed;
-} minimum;
-
 /* Rebuilds the list when a sphere has moved, or the radii have grown,
  * by more than the skin allows: 0 or -1 (out of memory). */
 static int maybe_rebuild(jam *s, int threads, double disp2, int *builds) {
@@ -529,8 +522,7 @@ static int maybe_rebuild(jam *s, int threads, double disp2, int *builds) {
  * by FIRE. A minimum: rms force below ftol of the rms overlap and, with
  * the scale free, dU/dscale within ftol of the drive. Returns 0, -1 (out
  * of memory) or -2 (cancelled). */
-static int minimize(jam *s, vp_context *ctx, int threads, double ftol, minimum *m,
-                    long *steps_total, int *builds, double progress_lo, double progress_hi) {
+static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *steps_total, int *builds, double progress_lo, double progress_hi) {
     size_t n = s->n;
     double dm = s->dmean;
     memset(s->v, 0, 3 * n * sizeof *s->v);
@@ -585,20 +577,15 @@ static int minimize(jam *s, vp_context *ctx, int threads, double ftol, minimum *
         sums mv = add_up(s, 1);
         if (maybe_rebuild(s, threads, mv.disp2, builds) != 0) return -1;
     }
-    m->e = t.e / (double)n / (dm * dm);
-    m->rms = sqrt(t.ff / (double)n) / dm;
-    m->steps = step;
-    m->jammed = sqrt(2.0 * t.e / (double)n) >= UNJAMMED * dm;
     *steps_total += step;
     return 0;
 }
 
 /* The largest relative overlap (pairs over r_i + r_j, the wall over r_i)
- * at the current scale, and the mean over overlapping contacts. */
+ * at the current scale. */
 typedef struct overlap_q {
     jam *s;
-    double worst[NCHUNK], sum[NCHUNK];
-    size_t count[NCHUNK];
+    double worst[NCHUNK];
 } overlap_q;
 
 static void overlap_chunk(void *user, size_t ci) {
@@ -606,8 +593,7 @@ static void overlap_chunk(void *user, size_t ci) {
     jam *s = q->s;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
-    double worst = 0, sum = 0;
-    size_t count = 0;
+    double worst = 0;
     for (size_t i = lo; i < hi; i++) {
         const double *xi = s->x + 4 * i;
         double ri = s->scale * R0(s, i);
@@ -621,41 +607,27 @@ static void overlap_chunk(void *user, size_t ci) {
             if (d2 >= sij * sij) continue;
             double o = (sij - sqrt(d2)) / sij;
             if (o > worst) worst = o;
-            sum += o;
-            count++;
         }
         if (s->near_wall[i]) {
             double g[3];
             double w = wall_overlap(s, xi, ri, g);
-            if (w > 0) {
-                double o = w / ri; /* the factor the last step takes from the radii */
-                if (o > worst) worst = o;
-                sum += o;
-                count++;
-            }
+            double o = w / ri; /* the factor the last step takes from the radii */
+            if (w > 0 && o > worst) worst = o;
         }
     }
     q->worst[ci] = worst;
-    q->sum[ci] = sum;
-    q->count[ci] = count;
 }
 
-static void overlaps(jam *s, int threads, double *worst, double *mean) {
+static double largest_overlap(jam *s, int threads) {
     overlap_q *q = malloc(sizeof *q);
-    *worst = *mean = 0;
-    if (!q) return;
+    if (!q) return 0.0;
     q->s = s;
     vp_parallel_for(threads, s->nchunk, overlap_chunk, q);
-    double w = 0, sum = 0;
-    size_t count = 0;
-    for (size_t c = 0; c < s->nchunk; c++) {
+    double w = 0;
+    for (size_t c = 0; c < s->nchunk; c++)
         if (q->worst[c] > w) w = q->worst[c];
-        sum += q->sum[c];
-        count += q->count[c];
-    }
     free(q);
-    *worst = w;
-    *mean = count ? sum / (double)count : 0.0;
+    return w;
 }
 
 /* ---- the exact last step ------------------------------------------------- */
@@ -969,7 +941,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
      * falling pressure until the largest overlap is below the finish */
     int builds = 0, mins = 0;
     long steps = 0;
-    double worst = HUGE_VAL, mean = 0;
+    double worst = HUGE_VAL;
     s.dmean = 2 * s.scale * mean_r0;
     s.skin = QUENCH_SKIN * s.dmean;
     if (grid_init(&s, 2 * s.scale * s.r0max + s.skin) != 0 || build_list(&s, threads) != 0) {
@@ -988,7 +960,6 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     s.scale_lo = 0.5 * start_scale;
     s.scale_hi = 1.25 * start_scale;
     for (mins = 0; mins < MAX_MINIMIZATIONS; mins++) {
-        minimum m;
         double plo = 0.95 * (1.0 - exp(-mins / 3.0));
         s.baro = mins > 0;
         if (mins == 1) {
@@ -1006,7 +977,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         double ftol = mins == 0                                 ? QUENCH_TOL
                       : tau > FORCE_TOL_BELOW * FINISH_OVERLAP ? MID_TOL
                                                                : FORCE_TOL;
-        int rc = minimize(&s, ctx, threads, ftol, &m, &steps, &builds, plo,
+        int rc = minimize(&s, ctx, threads, ftol, &steps, &builds, plo,
                           0.95 * (1.0 - exp(-(mins + 1) / 3.0)));
         if (rc == -2) {
             res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
@@ -1016,7 +987,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
             res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
             goto done;
         }
-        overlaps(&s, threads, &worst, &mean);
+        worst = largest_overlap(&s, threads);
         if (!(s.scale > s.scale_lo && s.scale < s.scale_hi)) break;
         if (mins > 0 && worst <= FINISH_OVERLAP) break;
         /* the next pressure: the mean overlap falls with it in proportion */
@@ -1056,8 +1027,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         goto done;
     }
     s.scale *= f * (1.0 - 4 * DBL_EPSILON);
-    double last_worst, last_mean;
-    overlaps(&s, threads, &last_worst, &last_mean);
+    double last_worst = largest_overlap(&s, threads);
 
     /* 4. what the packing is: contacts, rattlers, the core */
     contacts(&s, P->contact_gap, &rep);
