@@ -52,6 +52,7 @@ static void structs(void) {
     F(vp_container_params, inside); F(vp_container_params, grid_name);
     F(vp_container_params, has_iso); F(vp_container_params, iso);
     F(vp_container_params, narrow_band); F(vp_container_params, name);
+    F(vp_container_params, extra_depth);
     printf("}");
 
     S(vp_particles);
@@ -126,6 +127,7 @@ static void structs(void) {
     F(vp_relax_params, fit); F(vp_relax_params, radius); F(vp_relax_params, count);
     F(vp_relax_params, target_fraction); F(vp_relax_params, tolerance);
     F(vp_relax_params, max_sweeps); F(vp_relax_params, seed);
+    F(vp_relax_params, margin); F(vp_relax_params, gap);
     printf("}");
 
     S(vp_relax_report);
@@ -138,6 +140,7 @@ static void structs(void) {
     F(vp_jam_params, fit); F(vp_jam_params, radius); F(vp_jam_params, count);
     F(vp_jam_params, target_fraction); F(vp_jam_params, tolerance);
     F(vp_jam_params, contact_gap); F(vp_jam_params, seed);
+    F(vp_jam_params, margin); F(vp_jam_params, gap);
     printf("}");
 
     S(vp_jam_report);

@@ -62,7 +62,23 @@ for k in "method = jam" mean_contacts rattler_fraction max_overlap radius_scale;
 done
 echo "  ok: the same file on 1 and 2 threads; metadata names the method and its report"
 
-# 3. bad input: one line, non-zero exit, no output file
+# 3. --margin and --gap: `check` holds the file to both, and to neither
+# doubled; a mesh container's band reaches the margin's depth
+for cont in box:1,1,1 "$VP_SRC/vdb_samples/peanut.obj"; do
+  "$VDBPACK" pack "$cont" --method jam --count 800 --margin 0.04 --gap 0.003 -o mg.vdb -q \
+    || die "margin/gap: pack in $cont"
+  "$VDBPACK" check mg.vdb --container "$cont" --margin 0.04 --gap 0.003 -q \
+    || die "margin/gap: check in $cont"
+  if "$VDBPACK" check mg.vdb --container "$cont" --margin 0.08 -q >/dev/null 2>&1; then
+    die "margin/gap: check passes a margin of twice the one packed ($cont)"
+  fi
+  if "$VDBPACK" check mg.vdb --container "$cont" --gap 0.006 -q >/dev/null 2>&1; then
+    die "margin/gap: check passes a gap of twice the one packed ($cont)"
+  fi
+done
+echo "  ok: --margin 0.04 --gap 0.003 held (box, peanut.obj), and twice them fail check"
+
+# 4. bad input: one line, non-zero exit, no output file
 bad() { # DESCRIPTION ARGS...
   local what=$1; shift
   rm -f bad.vdb
@@ -82,6 +98,9 @@ bad "no count and no radius" box:1,1,1 --method jam
 bad "--count and --target-fraction" box:1,1,1 --method jam --count 10 --target-fraction 0.6
 bad "a solid shape" box:1,1,1 --method jam --count 10 --shape cube
 bad "--count max" box:1,1,1 --method jam --count max --radius 0.1
+bad "a margin past the inradius" box:1,1,1 --method jam --count 100 --margin 0.5
+bad "a gap as large as the radii" box:1,1,1 --method jam --count 100 --gap 0.2
+bad "a negative gap" box:1,1,1 --method jam --count 100 --gap -0.01
 # (centres pushed past a level set's band, where no wall holds them, were
 # squeezed to radii of 1e-18 and written with exit 0)
 bad "spheres that escape a level set's band" "$VP_SRC/vdb_samples/sphere_ls.vdb" --method jam \

@@ -269,9 +269,98 @@ static void test_bad_input(void) {
     vp_container_destroy(c);
 }
 
+/* A margin from the wall and a gap between surfaces: every pair keeps the
+ * gap and every sphere the margin (brute force against the analytic
+ * wall), and the packing is still jammed at them: pairs and walls within
+ * 1e-4 of the gap and the margin hold the spheres with about 6 contacts
+ * each. Bad margins and gaps fail. */
+static void test_margin_gap(void) {
+    for (int sphere = 0; sphere < 2; sphere++) {
+        vp_fit fit = sphere ? VP_FIT_INSIDE : VP_FIT_CENTER;
+        const double margin = sphere ? 0.08 : 0.03, gap = sphere ? 0.01 : 0.004;
+        vp_container *c = make(sphere);
+        vp_jam_params jp;
+        vp_jam_params_init(&jp);
+        jp.count = 1500;
+        jp.fit = fit;
+        jp.seed = 3;
+        jp.margin = margin;
+        jp.gap = gap;
+        vp_context_set_threads(g_ctx, 2);
+        vp_particles *p = NULL;
+        vp_jam_report rep;
+        ASSERT_OK(g_ctx, vp_pack_jam(g_ctx, c, &jp, &p, &rep));
+        size_t n = p->count;
+        ASSERT_EQ_INT(n, 1500);
+        double least_gap = HUGE_VAL, least_margin = HUGE_VAL;
+        int *z = calloc(n, sizeof *z);
+        ASSERT_TRUE(z != NULL);
+        for (size_t i = 0; i < n; i++) {
+            double ri = radius_of(p, i);
+            ASSERT_TRUE(ri > gap);
+            double d = wall_distance(sphere, p->positions + 3 * i);
+            double m = fit == VP_FIT_INSIDE ? -d - ri : -d;
+            least_margin = fmin(least_margin, m);
+            if (m - margin < 1e-4 * 2 * ri) z[i]++;
+            for (size_t j = i + 1; j < n; j++) {
+                const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
+                double s = ri + radius_of(p, j);
+                double g = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                                (a[2] - b[2]) * (a[2] - b[2])) - s;
+                least_gap = fmin(least_gap, g);
+                if (g - gap < 1e-4 * s) {
+                    z[i]++;
+                    z[j]++;
+                }
+            }
+        }
+        size_t held = 0, zs = 0;
+        for (size_t i = 0; i < n; i++)
+            if (z[i] >= 4) {
+                held++;
+                zs += (size_t)z[i];
+            }
+        double zmean = (double)zs / (double)held;
+        fprintf(stderr, "   margin %g gap %g (%s, fit %s): least margin %.9g, least gap %.9g, "
+                        "fraction %.4f, Z %.3f over %zu held (report: Z %.3f)\n",
+                margin, gap, sphere ? "sphere" : "box", sphere ? "inside" : "center",
+                least_margin, least_gap, rep.fraction, zmean, held, rep.mean_contacts);
+        ASSERT_TRUE(least_margin >= margin * (1 - 1e-9));
+        ASSERT_TRUE(least_gap >= gap * (1 - 1e-6));
+        ASSERT_TRUE(least_margin < margin * 1.01); /* spheres press on the margin */
+        ASSERT_TRUE(least_gap < gap * 1.01); /* and pairs press on the gap */
+        ASSERT_TRUE(held > n * 8 / 10);
+        ASSERT_TRUE(zmean > 5.0 && zmean < 6.8);
+        free(z);
+        vp_particles_destroy(p);
+        vp_container_destroy(c);
+    }
+    vp_container *c = make(0);
+    vp_jam_params jp;
+    vp_particles *p = NULL;
+    vp_jam_params_init(&jp);
+    jp.count = 100;
+    jp.margin = 0.5; /* the unit box's inradius */
+    ASSERT_FAILS(g_ctx, VP_ERR_NO_FIT, vp_pack_jam(g_ctx, c, &jp, &p, NULL));
+    fprintf(stderr, "   %s\n", vp_context_message(g_ctx));
+    vp_jam_params_init(&jp);
+    jp.count = 100;
+    jp.gap = 0.2; /* radii near 0.1 */
+    ASSERT_FAILS(g_ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_jam(g_ctx, c, &jp, &p, NULL));
+    fprintf(stderr, "   %s\n", vp_context_message(g_ctx));
+    jp.gap = NAN;
+    ASSERT_FAILS(g_ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_jam(g_ctx, c, &jp, &p, NULL));
+    jp.gap = 0;
+    jp.margin = -0.1;
+    ASSERT_FAILS(g_ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_jam(g_ctx, c, &jp, &p, NULL));
+    ASSERT_TRUE(p == NULL);
+    vp_container_destroy(c);
+}
+
 int main(void) {
     ASSERT_EQ_INT(vp_context_create(&g_ctx), VP_OK);
     RUN_TEST(test_bad_input);
+    RUN_TEST(test_margin_gap);
     RUN_TEST(test_threads);
     RUN_TEST(test_containers_and_sizes);
     RUN_TEST(test_small);

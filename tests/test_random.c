@@ -676,6 +676,60 @@ static void test_relax(void) {
     vp_container_destroy(c);
 }
 
+/* Relax with a margin and a gap: brute force over pairs and the analytic
+ * wall finds both kept, for both fits; a gap as large as the radii and a
+ * negative margin are refused. */
+static void test_relax_margin_gap(void) {
+    double ctr[3] = {0, 0, 0};
+    vp_container *c = NULL;
+    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
+    for (int f = 0; f < 2; f++) {
+        vp_relax_params xp;
+        vp_relax_params_init(&xp);
+        xp.fit = f ? VP_FIT_CENTER : VP_FIT_INSIDE;
+        vp_size_dist_constant(&xp.radius, 0.08);
+        xp.count = 800;
+        xp.target_fraction = 0.45;
+        xp.seed = 5;
+        xp.margin = 0.06;
+        xp.gap = 0.012;
+        vp_particles *p = NULL;
+        vp_relax_report rep;
+        ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_OK);
+        double least_gap = HUGE_VAL, least_margin = HUGE_VAL;
+        for (size_t i = 0; i < p->count; i++) {
+            const double *x = p->positions + 3 * i;
+            double d = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) - 1.0;
+            least_margin = fmin(least_margin, f ? -d : -d - rad(p, i));
+            for (size_t j = i + 1; j < p->count; j++) {
+                const double *y = p->positions + 3 * j;
+                double e = sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
+                                (x[2] - y[2]) * (x[2] - y[2]));
+                least_gap = fmin(least_gap, e - rad(p, i) - rad(p, j));
+            }
+        }
+        fprintf(stderr, "   relax, fit %s, margin 0.06, gap 0.012: least margin %.9g, least gap "
+                        "%.9g, radius scale %.4f, %d sweeps\n", f ? "center" : "inside",
+                least_margin, least_gap, rep.radius_scale, rep.sweeps);
+        ASSERT_TRUE(least_margin >= 0.06 * (1 - 1e-9));
+        ASSERT_TRUE(least_gap >= 0.012 * (1 - 1e-6));
+        ASSERT_TRUE(least_gap < 0.012 * 1.05); /* some pair at the gap: it shaped the packing */
+        vp_particles_destroy(p);
+    }
+    vp_relax_params xp;
+    vp_relax_params_init(&xp);
+    vp_size_dist_constant(&xp.radius, 0.08);
+    xp.count = 100;
+    xp.gap = 0.08;
+    vp_particles *p = NULL;
+    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, NULL), VP_ERR_INVALID_ARGUMENT);
+    xp.gap = 0;
+    xp.margin = -1;
+    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, NULL), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_TRUE(p == NULL);
+    vp_container_destroy(c);
+}
+
 static void test_check_known_cases(void) {
     vp_container *c = unit_box();
     vp_particles *p = NULL;
@@ -751,6 +805,7 @@ int main(void) {
     RUN_TEST(test_rsa_thin_containers);
     RUN_TEST(test_rsa_thin_maximal);
     RUN_TEST(test_relax);
+    RUN_TEST(test_relax_margin_gap);
     RUN_TEST(test_check_known_cases);
     vp_context_destroy(ctx);
     fprintf(stderr, "PASS\n");

@@ -5,6 +5,7 @@
 #define VP_TEST_H
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <math.h>
 
 /* Failure counter for tests that keep going after a failed check. */
@@ -89,6 +90,8 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
     } while (0)
 #endif
 
-#define RUN_TEST(fn) do { fprintf(stderr, "-- %s\n", #fn); fn(); } while (0)
+/* VP_TEST=NAME runs only the cases whose name contains NAME. */
+#define RUN_TEST(fn) do { const char *only_ = getenv("VP_TEST"); \
+    if (!only_ || strstr(#fn, only_)) { fprintf(stderr, "-- %s\n", #fn); fn(); } } while (0)
 #define RUN_TEST_ARGS(call) do { fprintf(stderr, "-- %s\n", #call); call; } while (0)
 #endif

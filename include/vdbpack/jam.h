@@ -27,6 +27,11 @@ typedef struct vp_jam_params {
     double contact_gap;      /* a contact: a gap below this much of r_i + r_j
                                 (of 2 r_i at the wall); default 1e-4 */
     uint64_t seed;
+    double margin;           /* world distance each sphere keeps from the wall
+                                (its surface with fit inside, its centre with
+                                fit center); default 0 */
+    double gap;              /* world distance kept between the surfaces of
+                                any two (smaller than the radii); default 0 */
 } vp_jam_params;
 VP_API void vp_jam_params_init(vp_jam_params *p);
 

@@ -28,6 +28,11 @@ typedef struct vp_relax_params {
                                 default 1e-6 */
     int max_sweeps;          /* 0 = automatic */
     uint64_t seed;
+    double margin;           /* world distance each sphere keeps from the wall
+                                (its surface with fit inside, its centre with
+                                fit center); default 0 */
+    double gap;              /* world distance kept between the surfaces of
+                                any two (smaller than the radii); default 0 */
 } vp_relax_params;
 VP_API void vp_relax_params_init(vp_relax_params *p);
 

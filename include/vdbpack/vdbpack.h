@@ -327,6 +327,10 @@ typedef struct vp_container_params {
                                  room for growth and relaxation */
     const char *name;         /* vp_container_from_mesh: the mesh's name in
                                  messages; NULL = "mesh" */
+    double extra_depth;       /* the interior band reaches this much deeper
+                                 (world; >= 0): a margin kept from the wall
+                                 (vp_container_params_for_rsa and _for_jam
+                                 set it from theirs); default 0 */
 } vp_container_params;
 VP_API void vp_container_params_init(vp_container_params *p);
 

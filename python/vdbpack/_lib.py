@@ -147,7 +147,8 @@ class vp_container_params(ctypes.Structure):
         ("voxel_size", ctypes.c_double), ("particle_radius", ctypes.c_double),
         ("particle_count", ctypes.c_size_t), ("space_per_particle", ctypes.c_double),
         ("inside", _e), ("grid_name", ctypes.c_char_p), ("has_iso", ctypes.c_int),
-        ("iso", ctypes.c_double), ("narrow_band", ctypes.c_int), ("name", ctypes.c_char_p)]
+        ("iso", ctypes.c_double), ("narrow_band", ctypes.c_int), ("name", ctypes.c_char_p),
+        ("extra_depth", ctypes.c_double)]
 
 
 class vp_particles(ctypes.Structure):
@@ -233,7 +234,8 @@ class vp_relax_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
         ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
-        ("max_sweeps", ctypes.c_int), ("seed", ctypes.c_uint64)]
+        ("max_sweeps", ctypes.c_int), ("seed", ctypes.c_uint64),
+        ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
 
 
 class vp_relax_report(ctypes.Structure):
@@ -247,7 +249,8 @@ class vp_jam_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
         ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
-        ("contact_gap", ctypes.c_double), ("seed", ctypes.c_uint64)]
+        ("contact_gap", ctypes.c_double), ("seed", ctypes.c_uint64),
+        ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
 
 
 class vp_jam_report(ctypes.Structure):

@@ -342,9 +342,10 @@ static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
         vp_mesh_destroy(m);
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: cannot choose a voxel size", name);
     }
-    double in_band = radius > 0 ? (pp->narrow_band ? ceil(1.02 * radius / voxel + 0.9)
-                                                   : ceil(1.25 * radius / voxel) + 2)
-                                : 3;
+    double extra = pp->extra_depth;
+    double in_band = radius > 0 ? (pp->narrow_band ? ceil((1.02 * radius + extra) / voxel + 0.9)
+                                                   : ceil((1.25 * radius + extra) / voxel) + 2)
+                                : ceil(extra / voxel) + 3;
     if (in_band < 3) in_band = 3;
     double ex_band = 3;
     /* memory guard: narrow-band voxels ~ area / voxel^2 * band width, at
@@ -478,9 +479,10 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
                        "%s: about %.3g particles need an estimated %s of memory, more than the "
                        "limit of %s; use fewer, larger particles", vp_path_base(path), particles, a, b);
     }
-    if (radius > 0) {
-        double depth = pp->narrow_band ? 1.02 * radius + 0.9 * li.voxel_size
-                                       : 1.25 * radius + li.voxel_size;
+    if (radius > 0 || pp->extra_depth > 0) {
+        double depth = (pp->narrow_band ? 1.02 * radius + 0.9 * li.voxel_size
+                                        : 1.25 * radius + li.voxel_size) +
+                       pp->extra_depth;
         /* the rebuild that widens the band, at 12 bytes a voxel as for a
          * mesh: a tile of 4096^3 voxels meeting the outside (a hand-made or
          * corrupt file) made it run for minutes in 10 GB */
@@ -510,7 +512,8 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
 static vp_result check_params(vp_context *ctx, const vp_container_params *params) {
     if (params->voxel_size < 0 || !isfinite(params->voxel_size) || params->particle_radius < 0 ||
         !isfinite(params->particle_radius) || params->space_per_particle < 0 ||
-        !isfinite(params->space_per_particle))
+        !isfinite(params->space_per_particle) || !(params->extra_depth >= 0) ||
+        !isfinite(params->extra_depth))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "the voxel size and particle radius must be positive finite numbers");
     return VP_OK;

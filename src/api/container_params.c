@@ -33,12 +33,14 @@ void vp_container_params_for_rsa(vp_container_params *cp, const vp_rsa_params *r
     cp->particle_count = count;
     cp->space_per_particle = 0;
     cp->narrow_band = 0; /* room for growth */
+    cp->extra_depth = rp->margin; /* distances are clamped past the band */
 }
 
 void vp_container_params_for_relax(vp_container_params *cp, const vp_relax_params *xp) {
     if (!cp || !xp) return;
     cp->particle_count = xp->count;
     cp->narrow_band = 0;
+    cp->extra_depth = xp->margin;
     if (xp->target_fraction > 0) {
         /* the radii are scaled so that count spheres fill target_fraction:
          * the largest is rmax, the mean cube E[r^3] */

@@ -372,7 +372,7 @@ static const struct {
     {OPT_LATTICE, M_LATTICE}, {OPT_OFFSETS, M_LATTICE}, {OPT_ROTATE, M_LATTICE},
     {OPT_ROTATIONS, M_LATTICE}, {OPT_PASS, M_RSA}, {OPT_RETRIES, M_RSA}, {OPT_GROW, M_RSA},
     {OPT_ORIENT, M_RSA}, {OPT_OVERLAP, M_RSA}, {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
-    {OPT_TOLERANCE, M_RELAX | M_JAM}, {OPT_MARGIN, M_RSA}, {OPT_GAP, M_RSA},
+    {OPT_TOLERANCE, M_RELAX | M_JAM}, {OPT_MARGIN, M_RSA | M_RELAX | M_JAM}, {OPT_GAP, M_RSA | M_RELAX | M_JAM},
 };
 
 static const char *option_name(int id) {
@@ -888,6 +888,8 @@ static void relax_params(const pack_opts *o, vp_relax_params *xp) {
     xp->target_fraction = o->target_fraction;
     if (o->tolerance > 0) xp->tolerance = o->tolerance;
     xp->seed = o->seed;
+    xp->margin = o->margin;
+    xp->gap = o->gap;
 }
 
 static void jam_params(const pack_opts *o, vp_jam_params *jp) {
@@ -898,6 +900,8 @@ static void jam_params(const pack_opts *o, vp_jam_params *jp) {
     if (o->target_fraction > 0) jp->target_fraction = o->target_fraction;
     if (o->tolerance > 0) jp->tolerance = o->tolerance;
     jp->seed = o->seed;
+    jp->margin = o->margin;
+    jp->gap = o->gap;
 }
 
 /* What loading a mesh or .vdb container needs to know of the job. */
@@ -921,9 +925,6 @@ static void container_params(const pack_opts *o, vp_container_params *cp) {
             cp->particle_count = (size_t)o->count;
             cp->space_per_particle = unit_volume(o) / o->target_fraction;
         }
-        /* the level set's interior band must reach the margin's depth (its
-         * values are clamped beyond the band) */
-        if (o->margin > 0 && cp->particle_radius > 0) cp->particle_radius += o->margin;
     } else if (!strcmp(o->method, "jam")) {
         vp_jam_params jp;
         jam_params(o, &jp);

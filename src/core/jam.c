@@ -86,6 +86,7 @@ void vp_jam_params_init(vp_jam_params *p) {
 typedef struct jam {
     const vp_container *c;
     vp_fit fit;
+    double margin, gap; /* kept from the wall, between surfaces (world) */
     size_t n;
     double *x;        /* 4n: position and r0 of each sphere, in cell order */
     float *v;         /* 3n velocities */
@@ -106,7 +107,8 @@ typedef struct jam {
     double dt, alpha, vscale; /* mixing: v <- (1 - alpha) v + vscale F */
     int zero_v;
     size_t chunk, nchunk;
-    double sum[NCHUNK][6]; /* energy, F.v, F.F, v.v, max displacement^2, dU/dscale */
+    double sum[NCHUNK][7]; /* energy, F.v, F.F, v.v, the two largest displacements^2 since
+                            * the list's build, dU/dscale */
     /* the radius scale as a degree of freedom (pressure control): its
      * mass-weighted velocity, sqrt(mass), the constant force that drives
      * it up, and the scale at the last list build */
@@ -135,7 +137,7 @@ static void chunk_range(const jam *s, size_t ci, size_t *lo, size_t *hi) {
  * continuous. */
 static double wall_overlap(const jam *s, const double *x, double r, double g[3]) {
     double d = vp_container_distance(s->c, x);
-    double w = s->fit == VP_FIT_INSIDE ? d + r : d;
+    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
     if (w <= 0) return w;
     double h = 0.5 * r, n2 = 0;
     for (int a = 0; a < 3; a++) {
@@ -234,7 +236,7 @@ static void build_chunk(void *user, size_t ci) {
     jam *s = b->s;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
-    const double reach_extra = s->skin;
+    const double reach_extra = s->skin + s->gap;
     for (size_t i = lo; i < hi; i++) {
         const double *xi = s->x + 4 * i;
         double ri = s->scale * R0(s, i);
@@ -269,8 +271,8 @@ static void build_chunk(void *user, size_t ci) {
             s->off[i + 1] = count;
             /* the wall: within reach until a sphere has moved skin / 2 */
             double d = vp_container_distance(s->c, xi);
-            double w = s->fit == VP_FIT_INSIDE ? d + ri : d;
-            s->near_wall[i] = w > -reach_extra;
+            double w = (s->fit == VP_FIT_INSIDE ? d + ri : d) + s->margin;
+            s->near_wall[i] = w > -s->skin;
             for (int k = 0; k < 3; k++) s->xr[3 * i + k] = (float)xi[k];
         }
     }
@@ -324,7 +326,7 @@ static void lanes_add(const double l[5][4], pair_sum *o) {
 static void lane_entry(const jam *s, size_t i, uint32_t j, double l[5][4], int lane) {
     const double *xi = s->x + 4 * i, *xj = s->x + 4 * (size_t)j;
     const double sc = s->scale;
-    double sij = sc * R0(s, i) + sc * R0(s, j);
+    double sij = (sc * R0(s, i) + s->gap) + sc * R0(s, j);
     double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
     double d2 = dx * dx + dy * dy + dz * dz;
     if (!(d2 < sij * sij)) return;
@@ -359,7 +361,7 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
     const double sc = s->scale;
     const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
                   xi2 = _mm256_set1_pd(xi[2]);
-    const __m256d vsc = _mm256_set1_pd(sc), ri = _mm256_set1_pd(sc * R0(s, i)),
+    const __m256d vsc = _mm256_set1_pd(sc), ri = _mm256_set1_pd(sc * R0(s, i) + s->gap),
                   r0i = _mm256_set1_pd(R0(s, i)), quarter = _mm256_set1_pd(0.25),
                   half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
     __m256d ax = zero, ay = zero, az = zero, ae = zero, as = zero;
@@ -460,7 +462,7 @@ static void force_chunk(void *user, size_t ci) {
     s->sum[ci][1] = fv;
     s->sum[ci][2] = ff;
     s->sum[ci][3] = vv;
-    s->sum[ci][5] = duds;
+    s->sum[ci][6] = duds;
 }
 
 static void move_chunk(void *user, size_t ci) {
@@ -468,7 +470,7 @@ static void move_chunk(void *user, size_t ci) {
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
     const double dt = s->dt, a = 1.0 - s->alpha, b = s->vscale;
-    double dmax = 0;
+    double dmax = 0, dmax2 = 0;
     for (size_t i = lo; i < hi; i++) {
         float *vi = s->v + 3 * i;
         const float *fi = s->f + 3 * i;
@@ -483,33 +485,45 @@ static void move_chunk(void *user, size_t ci) {
             double d = xi[k] - xr[k];
             d2 += d * d;
         }
-        if (d2 > dmax) dmax = d2;
+        if (d2 > dmax2) {
+            dmax2 = d2 > dmax ? dmax : d2;
+            if (d2 > dmax) dmax = d2;
+        }
     }
     s->sum[ci][4] = dmax;
+    s->sum[ci][5] = dmax2;
 }
 
 typedef struct sums {
-    double e, fv, ff, vv, disp2, duds;
+    double e, fv, ff, vv, disp2[2], duds;
 } sums;
 
 static sums add_up(const jam *s, int col_max4) {
-    sums t = {0, 0, 0, 0, 0, 0};
+    sums t = {0, 0, 0, 0, {0, 0}, 0};
     for (size_t c = 0; c < s->nchunk; c++) {
         t.e += s->sum[c][0];
         t.fv += s->sum[c][1];
         t.ff += s->sum[c][2];
         t.vv += s->sum[c][3];
-        t.duds += s->sum[c][5];
-        if (col_max4 && s->sum[c][4] > t.disp2) t.disp2 = s->sum[c][4];
+        t.duds += s->sum[c][6];
+        for (int k = 4; col_max4 && k < 6; k++) {
+            double d2 = s->sum[c][k];
+            if (d2 > t.disp2[1]) {
+                t.disp2[1] = d2 > t.disp2[0] ? t.disp2[0] : d2;
+                if (d2 > t.disp2[0]) t.disp2[0] = d2;
+            }
+        }
     }
     return t;
 }
 
-/* Rebuilds the list when a sphere has moved, or the radii have grown,
- * by more than the skin allows: 0 or -1 (out of memory). */
-static int maybe_rebuild(jam *s, int threads, double disp2, int *builds) {
+/* Rebuilds the list when two spheres may have closed in on each other,
+ * or the radii grown, by more than the skin allows (the two largest
+ * displacements since the build added: any pair has moved together by
+ * at most that much): 0 or -1 (out of memory). */
+static int maybe_rebuild(jam *s, int threads, const double disp2[2], int *builds) {
     double grow = s->scale > s->s_build ? 2.0 * (s->scale - s->s_build) * s->r0max : 0.0;
-    double moved = 2.0 * sqrt(disp2) + grow;
+    double moved = sqrt(disp2[0]) + sqrt(disp2[1]) + grow;
     if (moved <= s->skin) return 0;
     if (build_list(s, threads) != 0) return -1;
     (*builds)++;
@@ -531,7 +545,7 @@ static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *ste
     s->alpha = FIRE_ALPHA0;
     int npos = 0;
     long step;
-    sums t = {0, 0, 0, 0, 0, 0};
+    sums t = {0, 0, 0, 0, {0, 0}, 0};
     for (step = 0; step < MAX_STEPS; step++) {
         vp_parallel_for(threads, s->nchunk, force_chunk, s);
         t = add_up(s, 0);
@@ -601,11 +615,11 @@ static void overlap_chunk(void *user, size_t ci) {
             uint32_t j = s->nb[k];
             if (j < i) continue;
             const double *xj = s->x + 4 * (size_t)j;
-            double sij = ri + s->scale * R0(s, j);
+            double sij = ri + s->scale * R0(s, j), reach = sij + s->gap;
             double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
             double d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 >= sij * sij) continue;
-            double o = (sij - sqrt(d2)) / sij;
+            if (d2 >= reach * reach) continue;
+            double o = (reach - sqrt(d2)) / sij;
             if (o > worst) worst = o;
         }
         if (s->near_wall[i]) {
@@ -645,12 +659,12 @@ static double safe_factor(jam *s) {
             const double *xj = s->x + 4 * (size_t)j;
             double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
             double d = sqrt(dx * dx + dy * dy + dz * dz);
-            double g = d / (s->scale * (r0i + R0(s, j)));
+            double g = (d - s->gap) / (s->scale * (r0i + R0(s, j)));
             if (g < f) f = g;
         }
         if (s->fit == VP_FIT_INSIDE) {
             double d = vp_container_distance(s->c, xi);
-            double g = -d / (s->scale * r0i);
+            double g = (-d - s->margin) / (s->scale * r0i);
             if (g < f) f = g;
         }
     }
@@ -662,7 +676,7 @@ static double safe_factor(jam *s) {
 static void project_centres(jam *s) {
     for (size_t i = 0; i < s->n; i++) {
         double *x = s->x + 4 * i;
-        double want = s->fit == VP_FIT_INSIDE ? -0.5 * s->scale * R0(s, i) : 0.0;
+        double want = (s->fit == VP_FIT_INSIDE ? -0.5 * s->scale * R0(s, i) : 0.0) - s->margin;
         for (int it = 0; it < 8; it++) {
             double d = vp_container_distance(s->c, x);
             if (d <= want) break;
@@ -695,11 +709,11 @@ static void contacts(jam *s, double gap, vp_jam_report *rep) {
             const double *xj = s->x + 4 * (size_t)j;
             double sij = ri + s->scale * R0(s, j);
             double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-            if (sqrt(dx * dx + dy * dy + dz * dz) - sij < gap * sij) c++;
+            if (sqrt(dx * dx + dy * dy + dz * dz) - sij - s->gap < gap * sij) c++;
         }
         if (s->near_wall[i]) {
             double d = vp_container_distance(s->c, xi);
-            double w = s->fit == VP_FIT_INSIDE ? -d - ri : -d;
+            double w = (s->fit == VP_FIT_INSIDE ? -d - ri : -d) - s->margin;
             if (w < gap * 2 * ri) c++;
         }
         z[i] = (uint8_t)(c > 255 ? 255 : c);
@@ -720,7 +734,8 @@ static void contacts(jam *s, double gap, vp_jam_report *rep) {
                 const double *xj = s->x + 4 * (size_t)j;
                 double sij = ri + s->scale * R0(s, j);
                 double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-                if (sqrt(dx * dx + dy * dy + dz * dz) - sij < gap * sij && z[j] > 0) z[j]--;
+                if (sqrt(dx * dx + dy * dy + dz * dz) - sij - s->gap < gap * sij && z[j] > 0)
+                    z[j]--;
             }
         }
     }
@@ -808,6 +823,10 @@ static vp_result check_params(vp_context *ctx, const vp_container *c, const vp_j
                        "jam: a fraction of %g of equal spheres is more than any packing holds "
                        "(0.7405, the densest); random close packing is about 0.64",
                        P->target_fraction);
+    if (!(P->margin >= 0) || !isfinite(P->margin) || !(P->gap >= 0) || !isfinite(P->gap))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "jam: the margin and the gap must be finite and >= 0, not %g and %g",
+                       P->margin, P->gap);
     if (!c || !(c->info.volume > 0))
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "jam: the container has no volume");
     return VP_OK;
@@ -852,6 +871,25 @@ static void jam_free(jam *s) {
 
 /* Radii from the distribution and centres at random where a sphere of the
  * given radius fits (overlaps allowed). */
+/* The share of the container's volume deeper than the margin, from 4096
+ * points at random in its box (1 without a margin): the room the spheres
+ * start in. */
+static double room_share(const jam *s, uint64_t seed) {
+    if (!(s->margin > 0)) return 1.0;
+    const vp_container_info *ci = &s->c->info;
+    uint64_t rs = vp_rng_stream(seed, 3);
+    size_t in = 0, deep = 0;
+    for (int t = 0; t < 4096; t++) {
+        double x[3];
+        for (int k = 0; k < 3; k++)
+            x[k] = ci->bmin[k] + (ci->bmax[k] - ci->bmin[k]) * vp_rng_uniform(&rs);
+        double d = vp_container_distance(s->c, x);
+        in += d <= 0;
+        deep += d <= -s->margin;
+    }
+    return in ? fmax((double)deep / (double)in, 1.0 / 64.0) : 1.0;
+}
+
 static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
     const vp_container_info *ci = &s->c->info;
     uint64_t rs = vp_rng_stream(P->seed, 1), ps = vp_rng_stream(P->seed, 2);
@@ -865,7 +903,7 @@ static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
     s->r0max = rmax;
     for (size_t i = 0; i < s->n; i++) {
         double r = s->scale * R0(s, i), lo[3], hi[3];
-        double in = s->fit == VP_FIT_INSIDE ? r : 0.0;
+        double in = (s->fit == VP_FIT_INSIDE ? r : 0.0) + s->margin;
         for (int k = 0; k < 3; k++) {
             lo[k] = ci->bmin[k] + in;
             hi[k] = ci->bmax[k] - in;
@@ -875,13 +913,15 @@ static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
             for (int t = 0; t < 100000 && !placed; t++) {
                 double *x = s->x + 4 * i;
                 for (int k = 0; k < 3; k++) x[k] = lo[k] + (hi[k] - lo[k]) * vp_rng_uniform(&ps);
-                placed = vp_container_distance(s->c, x) <= (s->fit == VP_FIT_INSIDE ? -r : 0.0);
+                placed = vp_container_distance(s->c, x) <= -in;
             }
         if (!placed)
             return vp_fail(ctx, VP_ERR_NO_FIT,
-                           "jam: no place in the container for a sphere of radius %.6g (%s): "
-                           "the container is smaller than one sphere",
-                           r, s->fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside");
+                           "jam: no place in the container for a sphere of radius %.6g (%s%s): "
+                           "the container is smaller than one sphere%s",
+                           r, s->fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside",
+                           s->margin > 0 ? ", with the margin" : "",
+                           s->margin > 0 ? " and its margin" : "");
     }
     return VP_OK;
 }
@@ -904,6 +944,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     memset(&s, 0, sizeof s);
     s.c = c;
     s.fit = P->fit;
+    s.margin = P->margin;
+    s.gap = P->gap;
     s.n = n;
     s.nchunk = n / 512 < 1 ? 1 : n / 512 > NCHUNK ? NCHUNK : n / 512;
     s.chunk = (n + s.nchunk - 1) / s.nchunk;
@@ -924,8 +966,18 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     /* 1. radii scaled to overfill the container, centres at random */
     double m3 = vp_size_dist_mean_cube(&P->radius);
     double vmean = 4.0 / 3.0 * M_PI * m3;
-    s.scale = cbrt(START_FRACTION * c->info.volume / ((double)n * vmean));
+    s.scale = cbrt(START_FRACTION * room_share(&s, P->seed) * c->info.volume / ((double)n * vmean));
+    /* a gap makes each sphere take the room of one gap / 2 larger */
+    const double no_gap = s.scale;
+    s.scale -= 0.5 * P->gap / cbrt(m3);
     const double start_scale = s.scale;
+    if (!(P->gap < 0.9 * s.scale * vp_size_dist_min(&P->radius))) {
+        res = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                      "jam: the gap %g is not smaller than the smallest radius (about %.3g for "
+                      "%zu spheres in this container, less half the gap)",
+                      P->gap, no_gap * vp_size_dist_min(&P->radius), n);
+        goto done;
+    }
     res = place_random(ctx, &s, P);
     if (res != VP_OK) goto done;
     double mean_r0 = 0;
@@ -1089,6 +1141,7 @@ void vp_container_params_for_jam(vp_container_params *cp, const vp_jam_params *x
     if (!cp || !xp) return;
     cp->narrow_band = 0;
     cp->particle_count = xp->count;
+    cp->extra_depth = xp->margin;
     /* the radii end near those that fill 0.64 (any count); the band must
      * reach the largest at the start, when they overfill by START_FRACTION */
     double rmax = vp_size_dist_max(&xp->radius), m3 = vp_size_dist_mean_cube(&xp->radius);

@@ -51,6 +51,7 @@ void vp_relax_params_init(vp_relax_params *p) {
 typedef struct relax {
     const vp_container *c;
     vp_fit fit;
+    double margin, gap; /* kept from the wall, between surfaces (world) */
     size_t n;
     double *x;       /* 3n positions */
     double *nx;      /* 3n positions after the sweep */
@@ -76,7 +77,7 @@ static int nb_visit(void *user, uint32_t j) {
     if (j == q->i) return 0;
     const relax *s = q->s;
     const double *xi = s->x + 3 * q->i, *xj = s->x + 3 * (size_t)j;
-    double e = s->r[q->i] + s->r[j];
+    double rr = s->r[q->i] + s->r[j], e = rr + s->gap; /* the distance wanted */
     double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
     double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     if (d2 >= e * e) return 0;
@@ -93,7 +94,7 @@ static int nb_visit(void *user, uint32_t j) {
     double f = e / dist;
     for (int k = 0; k < 3; k++) q->sum[k] += xj[k] + d[k] * f;
     q->k++;
-    double o = (e - sqrt(d2)) / e;
+    double o = (e - sqrt(d2)) / rr;
     if (o > q->worst) q->worst = o;
     if (e - sqrt(d2) > q->worst_abs) q->worst_abs = e - sqrt(d2);
     return 0;
@@ -102,7 +103,7 @@ static int nb_visit(void *user, uint32_t j) {
 /* Wall overlap of sphere i (world; <= 0: none) and the push direction. */
 static double wall_overlap(const relax *s, const double x[3], double r, double g[3]) {
     double d = vp_container_distance(s->c, x);
-    double w = s->fit == VP_FIT_INSIDE ? d + r : d;
+    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
     if (w > 0) vp_container_gradient(s->c, x, g);
     return w;
 }
@@ -115,7 +116,7 @@ static void sweep_chunk(void *user, size_t ci) {
         const double *xi = s->x + 3 * i;
         double ri = s->r[i];
         nb q = {s, i, {0, 0, 0}, 0, 0.0, 0.0};
-        vp_sgrid_query(&s->g, xi, ri, nb_visit, &q);
+        vp_sgrid_query(&s->g, xi, ri + s->gap, nb_visit, &q);
         double g[3];
         double w = wall_overlap(s, xi, ri, g);
         if (w > 0) {
@@ -152,7 +153,7 @@ static int final_visit(void *user, uint32_t j) {
     final_q *q = user;
     if (j == q->i) return 0;
     const double *xi = q->s->x + 3 * q->i, *xj = q->s->x + 3 * (size_t)j;
-    double e = q->s->r[q->i] + q->s->r[j];
+    double e = q->s->r[q->i] + q->s->r[j] + q->s->gap;
     double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
     double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < e * e) {
@@ -163,12 +164,12 @@ static int final_visit(void *user, uint32_t j) {
 }
 
 /* Moves every centre that is outside (fit center) back along the distance
- * gradient until the distance there is <= 0. */
+ * gradient until the distance there is <= -margin. */
 static void project_centres(relax *s) {
     for (size_t i = 0; i < s->n; i++) {
         double *x = s->x + 3 * i;
         for (int it = 0; it < 8; it++) {
-            double d = vp_container_distance(s->c, x);
+            double d = vp_container_distance(s->c, x) + s->margin;
             if (d <= 0) break;
             double g[3];
             vp_container_gradient(s->c, x, g);
@@ -192,7 +193,7 @@ static double measure(relax *s, int shrink) {
     double *cut = shrink ? calloc(s->n, sizeof *cut) : NULL;
     for (size_t i = 0; i < s->n; i++) {
         final_q q = {s, i, 0.0};
-        vp_sgrid_query(&s->g, s->x + 3 * i, s->r[i], final_visit, &q);
+        vp_sgrid_query(&s->g, s->x + 3 * i, s->r[i] + s->gap, final_visit, &q);
         double g[3];
         double w = wall_overlap(s, s->x + 3 * i, s->r[i], g);
         double rel = q.worst / (2.0 * s->r[i]); /* >= worst/(r_i + r_j) for the smaller */
@@ -237,6 +238,10 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
                        "relax: the tolerance must be in (0, 0.1), not %g", P->tolerance);
     if (P->fit != VP_FIT_INSIDE && P->fit != VP_FIT_CENTER)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "relax: unknown fit");
+    if (!(P->margin >= 0) || !isfinite(P->margin) || !(P->gap >= 0) || !isfinite(P->gap))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "relax: the margin and the gap must be finite and >= 0, not %g and %g",
+                       P->margin, P->gap);
     if (P->count >= UINT32_MAX - 1)
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "relax: more than 2^32 spheres requested");
     double need = (double)P->count * 100.0;
@@ -256,6 +261,8 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
     memset(&s, 0, sizeof s);
     s.c = c;
     s.fit = P->fit;
+    s.margin = P->margin;
+    s.gap = P->gap;
     s.n = P->count;
     size_t n = s.n;
     s.x = malloc(3 * n * sizeof *s.x);
@@ -301,12 +308,16 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
                       "relax: the radii scaled to fill the target fraction %g of this container "
                       "span %g..%g, outside 1.2e-38..3.4e38 (radii are stored as float)",
                       P->target_fraction, rmin, rmax);
+    else if (!(P->gap < rmin))
+        res = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                      "relax: the gap %g is not smaller than the smallest radius (%g)", P->gap,
+                      rmin);
     if (res != VP_OK) goto done;
     /* random centres in the admissible region (overlaps allowed) */
     uint64_t ps = vp_rng_stream(P->seed, 2);
     for (size_t i = 0; i < n; i++) {
         double r = s.r[i], lo[3], hi[3];
-        double shrink = s.fit == VP_FIT_INSIDE ? r : 0.0;
+        double shrink = (s.fit == VP_FIT_INSIDE ? r : 0.0) + s.margin;
         for (int k = 0; k < 3; k++) {
             lo[k] = ci->bmin[k] + shrink;
             hi[k] = ci->bmax[k] - shrink;
@@ -317,13 +328,14 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
                 double *x = s.x + 3 * i;
                 for (int k = 0; k < 3; k++) x[k] = lo[k] + (hi[k] - lo[k]) * vp_rng_uniform(&ps);
                 double d = vp_container_distance(c, x);
-                placed = d <= (s.fit == VP_FIT_INSIDE ? -r : 0.0);
+                placed = d <= -shrink;
             }
         }
         if (!placed) {
             res = vp_fail(ctx, VP_ERR_NO_FIT,
-                          "relax: no place in the container for a sphere of radius %.6g (%s)", r,
-                          s.fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside");
+                          "relax: no place in the container for a sphere of radius %.6g (%s%s)",
+                          r, s.fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside",
+                          s.margin > 0 ? ", with the margin" : "");
             goto done;
         }
     }
