@@ -355,6 +355,7 @@ for _name, _r, _a in [
         ("vp_mesh_shape_name", _s, (_vp,)),
         ("vp_mesh_shape_from_mesh", _res, (_vp, _s, _vp, _z, _vp, _z, _P(_vp))),
         ("vp_mesh_shape_write_obj", _res, (_vp, _vp, _s)),
+        ("vp_shape_mesh", _res, (_vp, _e, _d, _vp, _vp, _P(_z), _vp, _P(_z), _vp, _P(_z))),
         ("vp_container_create_sphere", _res, (_vp, c_double3, _d, _P(_vp))),
         ("vp_container_create_box", _res, (_vp, c_double3, c_double3, _P(_vp))),
         ("vp_container_create_custom", _res,

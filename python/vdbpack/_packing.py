@@ -346,6 +346,34 @@ class Packing:
         s, param, _ = _known_shape(self.shape)
         _call.quick(lambda ctx: lib.vp_shape_write_obj_param(ctx, s, param, p))
 
+    def shape_mesh(self):
+        """The unit particle shape that write_shape writes, as arrays
+        (vp_shape_mesh, no file): vertices (V, 3) float64 and faces, a list
+        of lists of vertex indices, each counter-clockwise seen from
+        outside (a solid's polygons; a superball's or a mesh shape's
+        triangles). ValueError for spheres, which have no polygons
+        (instance a sphere of radius 1)."""
+        if self.shape == "mesh":
+            if self.mesh_shape is None:
+                raise ValueError("this packing holds particles of a mesh shape: set its "
+                                 "mesh_shape first")
+            s, param, ptr = _lib.VP_SHAPE_MESH, 0.0, self.mesh_shape._ptr.value
+        else:
+            s, param, _ = _known_shape(self.shape)
+            ptr = None
+        n = [ctypes.c_size_t(0) for _ in range(3)]
+        _call.quick(lambda ctx: lib.vp_shape_mesh(ctx, s, param, ptr, None, ctypes.byref(n[0]),
+                                                  None, ctypes.byref(n[1]), None,
+                                                  ctypes.byref(n[2])))
+        v = np.empty((n[0].value, 3), np.float64)
+        sizes = np.empty(n[1].value, np.uint32)
+        idx = np.empty(n[2].value, np.uint32)
+        _call.quick(lambda ctx: lib.vp_shape_mesh(
+            ctx, s, param, ptr, v.ctypes.data, ctypes.byref(n[0]), sizes.ctypes.data,
+            ctypes.byref(n[1]), idx.ctypes.data, ctypes.byref(n[2])))
+        ends = np.cumsum(sizes.astype(np.int64))
+        return v, [idx[e - k:e].tolist() for e, k in zip(ends, sizes.astype(np.int64))]
+
     # -- checking ----------------------------------------------------------
 
     def check(self, container, fit=None, *, overlap_tolerance=None, contact_tolerance=None,

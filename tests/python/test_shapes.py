@@ -163,3 +163,44 @@ def test_packings_made_in_python_take_superballs(tmp_path, cli):
     assert not (tmp_path / "bad.vdb").exists()
     with pytest.raises(ValueError, match="superball:0.4"):
         vdbpack.read(tmp_path / "two.csv", shape="superball:0.4")
+
+
+def _read_obj(path):
+    v, f = [], []
+    for line in open(path):
+        if line.startswith("v "):
+            v.append([float(x) for x in line.split()[1:4]])
+        elif line.startswith("f "):
+            f.append([int(t.split("/")[0]) - 1 for t in line.split()[1:]])
+    return np.array(v), f
+
+
+@pytest.mark.parametrize("shape", ["cube", "snub-cube", "truncated-icosidodecahedron",
+                                   "superball:2", "superball:0.6", "mesh"])
+def test_shape_mesh_is_the_written_shape(tmp_path, shape):
+    """Packing.shape_mesh (vp_shape_mesh, no file) gives the vertices and
+    faces write_shape writes (the OBJ read here), the faces outward."""
+    if shape == "mesh":
+        ms = vdbpack.MeshShape.from_file(os.path.join(SAMPLES, "box.obj"))
+        p = vdbpack.Packing(np.zeros((1, 3)), [1.0], [[0, 0, 0, 1]], shape=ms)
+    else:
+        p = vdbpack.Packing(np.zeros((1, 3)), [1.0], [[0, 0, 0, 1]], shape=shape)
+    v, faces = p.shape_mesh()
+    p.write_shape(tmp_path / "u.obj")
+    ov, of = _read_obj(tmp_path / "u.obj")
+    assert v.dtype == np.float64 and v.shape == ov.shape
+    np.testing.assert_array_equal(v, ov)
+    assert faces == of
+    assert np.linalg.norm(v, axis=1).max() == pytest.approx(1.0, abs=1e-9)
+    for f in faces:  # outward: Newell's normal against the face's centre
+        a = v[f]
+        b = np.roll(a, -1, axis=0)
+        n = np.sum(np.cross(a, b), axis=0)
+        assert n @ a.mean(axis=0) > 0
+
+
+def test_shape_mesh_refuses_spheres():
+    with pytest.raises(ValueError, match="sphere has no polygons"):
+        vdbpack.Packing(np.zeros((1, 3)), [1.0]).shape_mesh()
+    with pytest.raises(ValueError, match="mesh_shape"):
+        vdbpack.Packing(np.zeros((1, 3)), [1.0], [[0, 0, 0, 1]], shape="mesh").shape_mesh()
