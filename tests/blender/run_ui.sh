@@ -21,7 +21,7 @@ home=$(mktemp -d)
 trap 'rm -rf "$home"' EXIT
 export HOME="$home" BLENDER_USER_CONFIG="$home/config" BLENDER_USER_SCRIPTS="$home/scripts"
 export PYTHONPATH="$VP_BUILD/python${PYTHONPATH:+:$PYTHONPATH}"
-export VP_UI_RESULT="$home/result"
+export VP_UI_RESULT="$home/result" VP_UI_TMP="$home"
 # Blender quits from the test's timer with status 0 whatever happened: the
 # outcome is in $VP_UI_RESULT. A Blender that never gets as far as the test
 # (no display, no OpenGL 3.3) leaves none, which fails.

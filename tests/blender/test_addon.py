@@ -8,9 +8,11 @@ Each section is one CTest test (blender_SECTION). The expected particles
 come from the vdbpack Python module given the same mesh as a file, and the
 geometry checks (instances, overlaps, containment) are computed here with
 numpy from Blender's evaluated data, not with the add-on's code."""
+import atexit
 import csv
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,6 +27,7 @@ sys.path.insert(0, os.path.join(SRC, "blender"))
 import vdbpack  # noqa: E402  (PYTHONPATH: the build's module)
 
 TMP = tempfile.mkdtemp(prefix="vp-blender-")
+atexit.register(shutil.rmtree, TMP, True)  # Blender finalizes Python when it quits
 FAILS = []
 CHECKS = [0]
 
@@ -789,7 +792,6 @@ def section_images():
               % (name, 100 * cover))
         print("%s: %s, %.0f%% covered" % (name, path, 100 * cover))
         if os.environ.get("VP_BLENDER_DOC_IMAGES") == "1":
-            import shutil
             shutil.copy(path, os.path.join(SRC, "docs", "img", name + ".png"))
 
 

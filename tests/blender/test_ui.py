@@ -33,7 +33,8 @@ import vdbpack  # noqa: E402  (PYTHONPATH: the build's module)
 
 RESULT = os.environ.get("VP_UI_RESULT") or os.path.join(tempfile.gettempdir(), "vp_ui_result")
 IMAGES = os.environ.get("VP_BLENDER_IMAGES", "")
-TMP = tempfile.mkdtemp(prefix="vp-blender-ui-")
+# in run_ui.sh's temporary home, which it removes (quit.blend goes here too)
+TMP = tempfile.mkdtemp(prefix="vp-blender-ui-", dir=os.environ.get("VP_UI_TMP"))
 LIMIT = 240.0  # seconds for the whole test
 FAILS = []
 CHECKS = [0]
