@@ -13,9 +13,11 @@ apt_install setup "${PKGS[@]}"
 # VP_BLENDER=1: also Debian's Blender 3.4.1 for the add-on's tests
 # (tests/blender, docs/blender.md; about 1 minute, 190 MB installed). Mesa's
 # EGL and DRI drivers are named because --no-install-recommends would leave
-# them out, and Workbench renders need them even headless.
+# them out, and Workbench renders need them even headless. xvfb (with xauth,
+# which xvfb-run needs): a virtual X server for the test of the modal Fill
+# under Blender's UI (blender_ui).
 if [ "${VP_BLENDER:-0}" = 1 ]; then
-  apt_install setup blender libegl-mesa0 libgl1-mesa-dri
+  apt_install setup blender libegl-mesa0 libgl1-mesa-dri xvfb xauth
 fi
 
 BUILD_DIR=${BUILD_DIR:-build}

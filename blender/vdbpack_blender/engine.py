@@ -6,7 +6,6 @@ Nothing here touches bpy, so the job may run outside Blender's main
 thread; the operators copy the mesh out before and build objects after."""
 import os
 import sys
-import tempfile
 import threading
 import time
 
@@ -55,32 +54,16 @@ def container_sizing(vp, method, kw):
     return vp.container_params(method, **kw)
 
 
-# -- reading the unit shape back ---------------------------------------------
-
-
-def read_obj(path):
-    """Vertices (N, 3) float64 and faces (lists of indices) of a simple OBJ
-    as vp_shape_write_obj and vp_mesh_shape_write_obj write them."""
-    verts, faces = [], []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                verts.append([float(x) for x in line.split()[1:4]])
-            elif line.startswith("f "):
-                faces.append([int(tok.split("/")[0]) - 1 for tok in line.split()[1:]])
-    return np.array(verts, np.float64).reshape(-1, 3), faces
+# -- the unit shape -------------------------------------------------------
 
 
 def unit_shape(vp, packing):
     """The packing's unit particle (circumradius 1, centroid at the origin:
-    what pscale and orient place) as (vertices, faces), through the
-    library's own OBJ writer; None for spheres."""
+    what pscale and orient place) as (vertices, faces), the library's own
+    (Packing.shape_mesh: vp_shape_mesh, no file); None for spheres."""
     if packing.shape == "sphere":
         return None
-    with tempfile.TemporaryDirectory(prefix="vdbpack-shape-") as d:
-        path = os.path.join(d, "shape.obj")
-        packing.write_shape(path)
-        return read_obj(path)
+    return packing.shape_mesh()
 
 
 # -- the job -----------------------------------------------------------------

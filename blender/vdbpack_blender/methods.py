@@ -15,7 +15,7 @@ SOLIDS = ("tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron") + 
      "rhombicuboctahedron", "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
      "truncated-dodecahedron", "truncated-icosahedron", "rhombicosidodecahedron",
      "truncated-icosidodecahedron", "snub-dodecahedron")
-SHAPES = ("sphere",) + SOLIDS
+SHAPES = ("sphere",) + SOLIDS + ("superball",)  # a superball's exponent is a setting of its own
 
 
 def decimal(x):
@@ -24,6 +24,14 @@ def decimal(x):
     double; the shortest decimal that gives the same float32 is the one
     the user meant, and gives the command line's particles."""
     return float(np.format_float_positional(np.float32(x), unique=True, trim="-"))
+
+
+def shape_text(s):
+    """The shape as vdbpack.pack takes it: a name, or "superball:P" with
+    the exponent typed (decimal); "OBJECT" stays as it is."""
+    if s["shape"] == "superball":
+        return "superball:%r" % decimal(s["superball_exponent"])
+    return s["shape"]
 
 
 def _radius(s):
@@ -121,7 +129,7 @@ def pack_options(s):
     shape = s["shape"]
     if shape == "OBJECT" and not m.mesh_shapes:
         raise ValueError("a mesh object as the particle packs with the Random (RSA) method")
-    if shape in SOLIDS and not m.solids:
+    if (shape in SOLIDS or shape == "superball") and not m.solids:
         raise ValueError("%s packs spheres only: choose Sphere, or the Lattice or Random "
                          "method for a %s" % (m.label, shape))
     kw = m.options(s)

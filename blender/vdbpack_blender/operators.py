@@ -89,7 +89,7 @@ class VDBPACK_OT_fill(bpy.types.Operator):
         except (engine.SetupError, scene.MeshError, ValueError) as e:
             self._fail(context, str(e))
             return None
-        return engine.Job(vp, v, t, obj.name, method, kw, shape=d["shape"],
+        return engine.Job(vp, v, t, obj.name, method, kw, shape=methods.shape_text(d),
                           shape_mesh=shape_mesh, voxel_size=methods.decimal(s.voxel_size),
                           check=s.check,
                           cancel_at=self.cancel_at if self.cancel_at >= 0 else None,
@@ -200,6 +200,9 @@ class VDBPACK_OT_import_packing(bpy.types.Operator, ImportHelper):
     shape: EnumProperty(name="Shape (CSV)", items=_shape_items(), default="sphere",
                         description="The particle shape of a .csv with orientations (a CSV "
                                     "does not record it)")
+    superball_exponent: FloatProperty(name="Exponent (CSV)", default=2.0, min=0.5, max=1000.0,
+                                      soft_max=10.0, precision=3,
+                                      description="Shape (CSV) Superball: its exponent p")
 
     def execute(self, context):
         path = self.filepath
@@ -210,7 +213,8 @@ class VDBPACK_OT_import_packing(bpy.types.Operator, ImportHelper):
             except ValueError as e:
                 if "shape=" not in str(e) or not path.lower().endswith(".csv"):
                     raise
-                packing = vp.read(path, shape=self.shape)
+                packing = vp.read(path, shape=methods.shape_text(
+                    {"shape": self.shape, "superball_exponent": self.superball_exponent}))
             unit, shown, label = None, packing, packing.shape
             if packing.shape == "mesh":
                 # the file names its mesh shape but does not hold it

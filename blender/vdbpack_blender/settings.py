@@ -29,6 +29,8 @@ SHAPE_ITEMS = [
     ("rhombicosidodecahedron", "Rhombicosidodecahedron", "Archimedean solid: rhombicosidodecahedron", 'MESH_ICOSPHERE', 17),
     ("truncated-icosidodecahedron", "Truncated Icosidodecahedron", "Archimedean solid: truncated icosidodecahedron", 'MESH_ICOSPHERE', 18),
     ("snub-dodecahedron", "Snub Dodecahedron", "Archimedean solid: snub dodecahedron", 'MESH_ICOSPHERE', 19),
+    ("superball", "Superball", "Superballs |x|^2p + |y|^2p + |z|^2p <= 1 of the exponent p "
+     "below: 0.5 an octahedron, 1 a sphere, larger p ever more like a cube", 'MESH_UVSPHERE', 20),
     # OBJECT keeps number 6 (saved .blend files store the numbers)
     ("OBJECT", "Mesh Object", "Any closed mesh object of the scene as the particle (Random "
      "method)", 'OBJECT_DATA', 6),
@@ -75,6 +77,9 @@ class VDBPACK_PG_settings(bpy.types.PropertyGroup):
                          description="How the particles are placed")
     lattice: EnumProperty(name="Lattice", items=LATTICE_ITEMS, default="default")
     shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="sphere")
+    superball_exponent: FloatProperty(
+        name="Exponent", default=2.0, min=0.5, max=1000.0, soft_max=10.0, precision=3,
+        description="The superball's exponent p (0.5 to 1000: convex superballs)")
     shape_object: PointerProperty(name="Particle Object", type=bpy.types.Object, poll=_poll_mesh,
                                   description="The closed mesh each particle is a copy of")
     fit: EnumProperty(name="Fit", default="inside", items=[
@@ -116,7 +121,7 @@ class VDBPACK_PG_settings(bpy.types.PropertyGroup):
 def as_dict(s):
     """The settings as plain data for methods.pack_options."""
     d = {k: getattr(s, k) for k in (
-        "method", "lattice", "shape", "fit", "size_by", "radius", "distribution", "count",
+        "method", "lattice", "shape", "superball_exponent", "fit", "size_by", "radius", "distribution", "count",
         "use_target_fraction", "target_fraction", "orient", "seed", "threads")}
     d["passes"] = [{k: getattr(p, k) for k in ("maximal", "count", "radius", "distribution",
                                               "retries", "grow", "name")} for p in s.passes]

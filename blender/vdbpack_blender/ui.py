@@ -53,6 +53,8 @@ class VDBPACK_PT_panel(bpy.types.Panel):
         layout.prop(s, "shape")
         if s.shape == 'OBJECT':
             layout.prop(s, "shape_object")
+        elif s.shape == 'superball':
+            layout.prop(s, "superball_exponent")
         if "lattice" in m.shows:
             layout.prop(s, "lattice")
         if "size_by" in m.shows:

@@ -194,6 +194,19 @@ VP_API vp_result vp_mesh_shape_from_mesh(vp_context *ctx, const char *name, cons
 /* Writes the normalised shape as OBJ (atomically), for instancing. */
 VP_API vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const char *path);
 
+/* The unit shape's surface as arrays, for instancing without a file: the
+ * vertices and faces that vp_shape_write_obj_param (or, for VP_SHAPE_MESH,
+ * vp_mesh_shape_write_obj of mesh) writes: a solid's polygons, a
+ * superball's or a mesh shape's triangles, each face counter-clockwise
+ * seen from outside. Spheres have none (VP_ERR_INVALID_ARGUMENT). Call it
+ * twice: with vertices, face_sizes and indices NULL it sets *nverts,
+ * *nfaces and *nindices; then with arrays of 3 * *nverts doubles, *nfaces
+ * and *nindices (0-based) uint32 it fills them (counts smaller than the
+ * shape's: VP_ERR_INVALID_ARGUMENT, nothing written). */
+VP_API vp_result vp_shape_mesh(vp_context *ctx, vp_shape s, double param, const vp_mesh_shape *mesh,
+                               double *vertices, size_t *nverts, uint32_t *face_sizes,
+                               size_t *nfaces, uint32_t *indices, size_t *nindices);
+
 /* ------------------------------------------------------------------ */
 /* Containers                                                          */
 

@@ -91,6 +91,7 @@ SHAPES = ("sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosah
      "truncated-icosidodecahedron", "snub-dodecahedron")
 VP_SHAPE_SPHERE = 0
 VP_SHAPE_MESH = 64
+VP_SHAPE_SUPERBALL = 65  # "superball:P": the exponent P is the params' shape_param
 LATTICES = {"sc": 1, "bcc": 2, "fcc": 3, "hcp": 4, "densest": 5}
 VP_LATTICE_DEFAULT = 0
 VP_LATTICE_FCC = 3
@@ -345,6 +346,10 @@ for _name, _r, _a in [
         ("vp_shape_parse", ctypes.c_int, (_s, _P(_e))),
         ("vp_shape_unit_volume", _d, (_e,)),
         ("vp_shape_write_obj", _res, (_vp, _e, _s)),
+        ("vp_shape_parse_param", ctypes.c_int, (_s, _P(_e), _P(_d))),
+        ("vp_shape_format", _s, (_e, _d, _s, _z)),
+        ("vp_shape_unit_volume_param", _d, (_e, _d)),
+        ("vp_shape_write_obj_param", _res, (_vp, _e, _d, _s)),
         ("vp_mesh_shape_load", _res, (_vp, _s, _P(_vp))),
         ("vp_mesh_shape_destroy", None, (_vp,)),
         ("vp_mesh_shape_volume", _d, (_vp,)),
@@ -353,6 +358,7 @@ for _name, _r, _a in [
         ("vp_mesh_shape_name", _s, (_vp,)),
         ("vp_mesh_shape_from_mesh", _res, (_vp, _s, _vp, _z, _vp, _z, _P(_vp))),
         ("vp_mesh_shape_write_obj", _res, (_vp, _vp, _s)),
+        ("vp_shape_mesh", _res, (_vp, _e, _d, _vp, _vp, _P(_z), _vp, _P(_z), _vp, _P(_z))),
         ("vp_container_create_sphere", _res, (_vp, c_double3, _d, _P(_vp))),
         ("vp_container_create_box", _res, (_vp, c_double3, c_double3, _P(_vp))),
         ("vp_container_create_custom", _res,
@@ -369,6 +375,7 @@ for _name, _r, _a in [
         ("vp_particles_volume", _d, (_P(vp_particles),)),
         ("vp_lattice_params_init", None, (_P(vp_lattice_params),)),
         ("vp_lattice_fraction", _d, (_e, _e)),
+        ("vp_lattice_fraction_param", _d, (_e, _d, _e)),
         ("vp_pack_lattice", _res,
          (_vp, _vp, _P(vp_lattice_params), _P(_P(vp_particles)), _P(vp_lattice_report))),
         ("vp_container_params_for_lattice", None,

@@ -17,6 +17,7 @@ from . import _errors
 from . import _lib
 from ._container import Container, MeshShape
 from ._lib import lib
+from . import _packing
 from ._packing import Packing, Report, shape_name
 
 FLT_MIN = 1.1754943508222875e-38
@@ -145,19 +146,29 @@ def _group(ps, k):
     return ps.name.decode() or "pass%d" % (k + 1)
 
 
+def _builtin_shape(shape):
+    """(vp_shape id, exponent) of a built-in shape given to pack() (a name
+    or "superball:P", parsed by the library), or None for anything else."""
+    if not isinstance(shape, str):
+        return None
+    s = _packing.parse_shape(shape)
+    return None if s is None or s[0] == _lib.VP_SHAPE_MESH else s[:2]
+
+
 def _resolve_shape(shape, threads, progress):
-    """(vp_shape id, MeshShape or None) for shape=."""
+    """(vp_shape id, exponent, MeshShape or None) for shape=."""
     if isinstance(shape, MeshShape):
-        return _lib.VP_SHAPE_MESH, shape
-    if isinstance(shape, str) and shape in _lib.SHAPES:
-        return _lib.SHAPES.index(shape), None
+        return _lib.VP_SHAPE_MESH, 0.0, shape
+    b = _builtin_shape(shape)
+    if b is not None:
+        return b[0], b[1], None
     if isinstance(shape, os.PathLike) or (isinstance(shape, str) and
                                           ("." in shape or "/" in shape)):
-        return _lib.VP_SHAPE_MESH, MeshShape.from_file(shape, threads=threads, progress=progress)
+        return _lib.VP_SHAPE_MESH, 0.0, MeshShape.from_file(shape, threads=threads,
+                                                             progress=progress)
     if isinstance(shape, str):
-        raise ValueError("unknown shape '%s' (sphere, tetrahedron, cube, octahedron, "
-                         "dodecahedron, icosahedron, a closed mesh file such as shape.obj, or a "
-                         "vdbpack.MeshShape)" % shape)
+        raise ValueError("unknown shape '%s' (%s, a closed mesh file such as shape.obj, or a "
+                         "vdbpack.MeshShape)" % (shape, _packing.SHAPE_HELP))
     raise TypeError("shape must be a name, a mesh file or a vdbpack.MeshShape, not %r" % (shape,))
 
 
@@ -203,8 +214,10 @@ def _prepare(method, options):
                         % (shape_opt,))
 
     # -- the method's options, checked as check_method_options does -------
-    shape_id = _lib.SHAPES.index(shape_opt) if isinstance(shape_opt, str) and \
-        shape_opt in _lib.SHAPES else None
+    # a built-in name or "superball:P" as the library parses it (a bad
+    # exponent fails here); anything else is a mesh file or a MeshShape
+    builtin = _builtin_shape(shape_opt)
+    shape_id, shape_param = builtin if builtin is not None else (None, 0.0)
     is_mesh = shape_id is None
     if is_mesh and method != "rsa":
         if isinstance(shape_opt, str) and "." not in shape_opt and "/" not in shape_opt:
@@ -265,6 +278,7 @@ def _prepare(method, options):
             raise ValueError("lattice=%r is for spheres; a %s packs on its densest lattice "
                              "(lattice='densest')" % (given["lattice"], shape_opt))
         lp.shape, lp.lattice, lp.fit, lp.seed = shape_id, lat, fit, seed
+        lp.shape_param = shape_param
         if "offsets" in given:
             lp.offsets = _arrays.whole(given["offsets"], "offsets", 1, 1000000)
         if "rotations" in given:
@@ -314,6 +328,7 @@ def _prepare(method, options):
         rp = _lib.vp_rsa_params()
         lib.vp_rsa_params_init(ctypes.byref(rp))
         rp.fit, rp.orient, rp.overlap, rp.seed = fit, orient, overlap, seed
+        rp.shape_param = shape_param
         rp.passes = passes
         rp.npasses = len(specs)
         params, keep = rp, [passes]
@@ -413,9 +428,10 @@ def pack(container, method="lattice", **options):
 
     Options (as `vdbpack pack --help`; None means not given):
 
-    - all methods: shape ("sphere" default, "tetrahedron", "cube",
-      "octahedron", "dodecahedron", "icosahedron", a closed mesh file or a
-      MeshShape (rsa)), fit ("inside" default, or "center"), seed (1),
+    - all methods: shape ("sphere" default; for lattice and rsa also a
+      platonic or Archimedean solid, vdbpack.SHAPES, or "superball:P",
+      0.5 <= P <= 1000, as --shape takes them; for rsa a closed mesh file
+      or a MeshShape), fit ("inside" default, or "center"), seed (1),
       threads (default all cores; results do not depend on it),
       max_memory (bytes or "8G"), progress (callable(fraction, stage);
       returning False cancels: CancelledError);
@@ -439,14 +455,15 @@ def pack(container, method="lattice", **options):
     j = _prepare(method, options)
     given, threads, max_memory, progress = j["given"], j["threads"], j["max_memory"], j["progress"]
     fit, seed, shape_opt, shape_id = j["fit"], j["seed"], j["shape_opt"], j["shape_id"]
+    shape_param = j["shape_param"]
     params, keep, label = j["params"], j["keep"], j.get("label")
     has_radius, orient, overlap, mesh = j["has_radius"], j["orient"], j["overlap"], None
 
     # -- the particle shape first: a bad shape file fails before a long
     # voxelization (as the command line)
     if method == "rsa":
-        sid, mesh = _resolve_shape(shape_opt, threads, progress)
-        params.shape = sid
+        sid, shape_param, mesh = _resolve_shape(shape_opt, threads, progress)
+        params.shape, params.shape_param = sid, shape_param
         params.mesh = mesh._ptr.value if mesh is not None else None
         shape_id = sid
 
@@ -488,8 +505,9 @@ def pack(container, method="lattice", **options):
     ci = cont._info
 
     if method == "lattice" and params.count:
-        f = lib.vp_lattice_fraction(params.shape, params.lattice)
-        rc = (ci["volume"] * f / (params.count * lib.vp_shape_unit_volume(params.shape))) \
+        f = lib.vp_lattice_fraction_param(params.shape, params.shape_param, params.lattice)
+        rc = (ci["volume"] * f / (params.count * lib.vp_shape_unit_volume_param(
+            params.shape, params.shape_param))) \
             ** (1.0 / 3.0) if ci["volume"] > 0 and f > 0 else 0.0
         if not rc >= FLT_MIN:
             raise ValueError("count %d in %s gives a radius of about %g, below 1.2e-38 (radii "
@@ -536,7 +554,8 @@ def pack(container, method="lattice", **options):
     del keep
 
     # -- report and metadata, as the command line's --json and .vdb --------
-    r = Report(method=method, shape=shape_name(shape_id), fit="inside" if fit == 0 else "center",
+    shape_text = shape_name(shape_id, shape_param)  # "cube", "superball:2" (vp_shape_format)
+    r = Report(method=method, shape=shape_text, fit="inside" if fit == 0 else "center",
                seed=seed, count=len(packing))
     if method == "lattice":
         if not rep.radius >= FLT_MIN:
@@ -594,7 +613,7 @@ def pack(container, method="lattice", **options):
     md = {
         "creator": "vdbpack " + _lib.VERSION,
         "command_line": _call_text(container, method, options),
-        "seed": seed, "method": method, "shape": shape_name(shape_id),
+        "seed": seed, "method": method, "shape": shape_text,
         "fit": "inside" if fit == 0 else "center", "container": cname,
         "particle_count": len(packing), "max_radius": max_radius,
         "container_volume": ci["volume"], "packing_fraction": fraction,

@@ -24,14 +24,48 @@ from . import _container
 from . import _lib
 from ._lib import lib
 
-_SHAPE_IDS = {name: i for i, name in enumerate(_lib.SHAPES)}
-_SHAPE_IDS["mesh"] = _lib.VP_SHAPE_MESH
+# what an unknown shape's message lists (as the command line's)
+SHAPE_HELP = ("sphere, a platonic or Archimedean solid such as cube or truncated-octahedron "
+              "(vdbpack.SHAPES lists them), superball:P")
 
 
-def shape_name(shape_id):
+def shape_name(shape_id, param=0.0):
+    """The shape as files record it ("cube", "superball:2"): the library's
+    vp_shape_format."""
     if shape_id == _lib.VP_SHAPE_MESH:
         return "mesh"
-    return _lib.SHAPES[shape_id] if 0 <= shape_id < len(_lib.SHAPES) else str(shape_id)
+    buf = ctypes.create_string_buffer(64)
+    lib.vp_shape_format(shape_id, float(param), buf, len(buf))
+    return buf.value.decode() or str(shape_id)
+
+
+def parse_shape(text):
+    """A built-in shape's text as the command line takes it ("cube",
+    "Truncated_Cube", "superball:2"; and "mesh"), parsed by the library
+    (vp_shape_parse_param): (vp_shape id, exponent or 0, the name files
+    record), or None when the text names no built-in shape. A superball
+    whose exponent the library does not offer raises ValueError with the
+    command line's message."""
+    b = _arrays.text(text, "shape")
+    if text == "mesh":
+        return _lib.VP_SHAPE_MESH, 0.0, "mesh"
+    sid, param = ctypes.c_int(0), ctypes.c_double(0.0)
+    r = lib.vp_shape_parse_param(b, ctypes.byref(sid), ctypes.byref(param))
+    if r == -2:
+        raise ValueError("shape '%s': a superball's exponent P (superball:P) must be a number in "
+                         "[0.5, 1000] (convex superballs; concave ones, P < 0.5, are not offered)"
+                         % text)
+    if r != 0:
+        return None
+    return sid.value, param.value, shape_name(sid.value, param.value)
+
+
+def _known_shape(text, also=""):
+    """parse_shape, raising ValueError for a text that names no built-in shape."""
+    s = parse_shape(text)
+    if s is None:
+        raise ValueError("unknown shape '%s' (%s%s)" % (text, SHAPE_HELP, also))
+    return s
 
 
 class Report(dict):
@@ -77,9 +111,10 @@ class Packing:
       spheres (float32 in the library, as radii);
     - ``groups`` (N,) int32 indices into ``group_names`` (one group per rsa
       pass: pass1, pass2, ...);
-    - ``shape``: "sphere", "tetrahedron", "cube", "octahedron",
-      "dodecahedron", "icosahedron" or "mesh" (then ``mesh_shape`` is the
-      MeshShape, or None when read from a file and not given);
+    - ``shape``: as files record it: "sphere", a solid of vdbpack.SHAPES
+      ("cube", "snub-cube", ...), "superball:P" with its exponent, or
+      "mesh" (then ``mesh_shape`` is the MeshShape, or None when read from
+      a file and not given);
     - ``report``: the packer's figures (dict), ``metadata``: what a .vdb
       records (dict), ``method``, ``fraction`` (particle volume / container
       volume, when the container is known), ``position_error`` (read from a
@@ -135,7 +170,7 @@ class Packing:
             np.zeros(n, np.int32)
         names = [q.group_names[i].value.decode("utf-8", "replace")
                  for i in range(max(1, min(q.group_count, _lib.VP_MAX_GROUPS)))]
-        self = cls(pos, radii, orient, groups, names, shape_name(q.shape),
+        self = cls(pos, radii, orient, groups, names, shape_name(q.shape, q.shape_param),
                    mesh_shape if q.shape == _lib.VP_SHAPE_MESH else None)
         self.position_error = q.position_error
         return self
@@ -158,8 +193,10 @@ class Packing:
                              % (int(np.argwhere(~((radii > 0) & np.isfinite(radii)))[0][0]),
                                 float(radii[~((radii > 0) & np.isfinite(radii))][0])))
         shape = self.shape
-        if shape not in _SHAPE_IDS:
-            raise ValueError("unknown shape %r (%s, mesh)" % (shape, ", ".join(_lib.SHAPES)))
+        if not isinstance(shape, str):
+            raise TypeError("shape must be a str (a name such as 'cube' or 'superball:2', or "
+                            "'mesh'), not %r" % (shape,))
+        shape_id, shape_param, _ = _known_shape(shape, ", mesh")
         mesh = self.mesh_shape
         if shape == "mesh" and need_mesh and mesh is None:
             raise ValueError("%s packing holds particles of a mesh shape%s: set its mesh_shape "
@@ -202,7 +239,8 @@ class Packing:
                 c.uniform_orient[:] = [float(x) for x in orient[0]]
             elif n:
                 c.orients = orient.ctypes.data_as(ctypes.POINTER(ctypes.c_float))
-        c.shape = _SHAPE_IDS[shape]
+        c.shape = shape_id
+        c.shape_param = shape_param
         c.mesh = mesh._ptr.value if (shape == "mesh" and mesh is not None) else None
         if n and np.any(groups != 0):
             c.groups = groups.ctypes.data_as(ctypes.POINTER(ctypes.c_uint16))
@@ -275,7 +313,7 @@ class Packing:
             meta.update(metadata)
         for k in _WRITER_KEYS:
             meta.pop(k, None)
-        meta["shape"] = self.shape
+        meta["shape"] = shape_name(c.shape, c.shape_param)  # as the library formats it
         metas, nmeta, mkeep = _meta_array(meta)
         ep = _lib.vp_export_params()
         lib.vp_export_params_init(ctypes.byref(ep))
@@ -305,10 +343,36 @@ class Packing:
                 raise ValueError("this packing holds particles of a mesh shape: set its "
                                  "mesh_shape first")
             return self.mesh_shape.write_obj(path)
-        s = _SHAPE_IDS.get(self.shape)
-        if s is None:
-            raise ValueError("unknown shape %r" % (self.shape,))
-        _call.quick(lambda ctx: lib.vp_shape_write_obj(ctx, s, p))
+        s, param, _ = _known_shape(self.shape)
+        _call.quick(lambda ctx: lib.vp_shape_write_obj_param(ctx, s, param, p))
+
+    def shape_mesh(self):
+        """The unit particle shape that write_shape writes, as arrays
+        (vp_shape_mesh, no file): vertices (V, 3) float64 and faces, a list
+        of lists of vertex indices, each counter-clockwise seen from
+        outside (a solid's polygons; a superball's or a mesh shape's
+        triangles). ValueError for spheres, which have no polygons
+        (instance a sphere of radius 1)."""
+        if self.shape == "mesh":
+            if self.mesh_shape is None:
+                raise ValueError("this packing holds particles of a mesh shape: set its "
+                                 "mesh_shape first")
+            s, param, ptr = _lib.VP_SHAPE_MESH, 0.0, self.mesh_shape._ptr.value
+        else:
+            s, param, _ = _known_shape(self.shape)
+            ptr = None
+        n = [ctypes.c_size_t(0) for _ in range(3)]
+        _call.quick(lambda ctx: lib.vp_shape_mesh(ctx, s, param, ptr, None, ctypes.byref(n[0]),
+                                                  None, ctypes.byref(n[1]), None,
+                                                  ctypes.byref(n[2])))
+        v = np.empty((n[0].value, 3), np.float64)
+        sizes = np.empty(n[1].value, np.uint32)
+        idx = np.empty(n[2].value, np.uint32)
+        _call.quick(lambda ctx: lib.vp_shape_mesh(
+            ctx, s, param, ptr, v.ctypes.data, ctypes.byref(n[0]), sizes.ctypes.data,
+            ctypes.byref(n[1]), idx.ctypes.data, ctypes.byref(n[2])))
+        ends = np.cumsum(sizes.astype(np.int64))
+        return v, [idx[e - k:e].tolist() for e, k in zip(ends, sizes.astype(np.int64))]
 
     # -- checking ----------------------------------------------------------
 
@@ -603,8 +667,10 @@ def read(path, format=None, shape=None, *, threads=None, max_memory=None,  # noq
     mesh = None
     if isinstance(shape, _container.MeshShape):
         mesh, shape = shape, None
-    elif shape is not None and shape not in _SHAPE_IDS:
-        raise ValueError("unknown shape %r (%s, or a MeshShape)" % (shape, ", ".join(_lib.SHAPES)))
+    elif shape is not None:
+        if not isinstance(shape, str):
+            raise TypeError("shape must be a name or a vdbpack.MeshShape, not %r" % (shape,))
+        shape = _known_shape(shape, ", or a vdbpack.MeshShape")[2]
     out = ctypes.POINTER(_lib.vp_particles)()
     needs = ctypes.c_int(0)
     try:

@@ -5,6 +5,7 @@
 #include "api/atomic.h"
 #include "api/probe.h"
 #include "core/context.h"
+#include "core/mesh_shape.h"
 #include "core/shape.h"
 #include "core/superball.h"
 #include "os/input.h"
@@ -174,6 +175,61 @@ vp_result vp_shape_write_obj_param(vp_context *ctx, vp_shape s, double param, co
     const vp_mesh_shape *m = vp_superball_mesh(param, NULL);
     if (!m) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "superball: out of memory");
     return vp_mesh_shape_write_obj(ctx, m, path);
+}
+
+vp_result vp_shape_mesh(vp_context *ctx, vp_shape s, double param, const vp_mesh_shape *mesh,
+                        double *vertices, size_t *nverts, uint32_t *face_sizes, size_t *nfaces,
+                        uint32_t *indices, size_t *nindices) {
+    if (!nverts || !nfaces || !nindices)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "shape mesh: a count pointer is NULL");
+    const vp_polyhedron *poly = NULL;
+    if (s == VP_SHAPE_SUPERBALL) {
+        if (!(param >= VP_SUPERBALL_P_MIN && param <= VP_SUPERBALL_P_MAX))
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "superball: the exponent must be in [%g, %g], not %g",
+                           VP_SUPERBALL_P_MIN, VP_SUPERBALL_P_MAX, param);
+        mesh = vp_superball_mesh(param, NULL);
+        if (!mesh) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "superball: out of memory");
+    } else if (s == VP_SHAPE_MESH) {
+        if (!mesh) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "shape mesh: no mesh shape");
+    } else if (s == VP_SHAPE_SPHERE || !vp_shape_name(s)) {
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       s == VP_SHAPE_SPHERE ? "shape mesh: a sphere has no polygons (instance a "
+                                              "sphere of radius 1)"
+                                            : "shape mesh: unknown shape");
+    } else {
+        poly = vp_shape_polyhedron(s);
+    }
+    size_t nv = poly ? (size_t)poly->nverts : mesh->nverts;
+    size_t nf = poly ? (size_t)poly->nfaces : mesh->ntris;
+    size_t ni = 3 * nf;
+    if (poly) {
+        ni = 0;
+        for (int f = 0; f < poly->nfaces; f++) ni += (size_t)poly->face_size[f];
+    }
+    if (!vertices && !face_sizes && !indices) {
+        *nverts = nv, *nfaces = nf, *nindices = ni;
+        return VP_OK;
+    }
+    if (!vertices || !face_sizes || !indices || *nverts < nv || *nfaces < nf || *nindices < ni)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "shape mesh: arrays for %zu vertices, %zu faces and %zu indices needed",
+                       nv, nf, ni);
+    if (poly) {
+        size_t k = 0;
+        for (int v = 0; v < poly->nverts; v++)
+            for (int c = 0; c < 3; c++) vertices[3 * v + c] = poly->verts[v][c];
+        for (int f = 0; f < poly->nfaces; f++) {
+            face_sizes[f] = (uint32_t)poly->face_size[f];
+            for (int i = 0; i < poly->face_size[f]; i++) indices[k++] = (uint32_t)poly->faces[f][i];
+        }
+    } else {
+        memcpy(vertices, mesh->verts, 3 * nv * sizeof *vertices);
+        for (size_t f = 0; f < nf; f++) face_sizes[f] = 3;
+        memcpy(indices, mesh->tris, ni * sizeof *indices);
+    }
+    *nverts = nv, *nfaces = nf, *nindices = ni;
+    return VP_OK;
 }
 
 vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path) {

@@ -8,9 +8,11 @@ Each section is one CTest test (blender_SECTION). The expected particles
 come from the vdbpack Python module given the same mesh as a file, and the
 geometry checks (instances, overlaps, containment) are computed here with
 numpy from Blender's evaluated data, not with the add-on's code."""
+import atexit
 import csv
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,6 +27,7 @@ sys.path.insert(0, os.path.join(SRC, "blender"))
 import vdbpack  # noqa: E402  (PYTHONPATH: the build's module)
 
 TMP = tempfile.mkdtemp(prefix="vp-blender-")
+atexit.register(shutil.rmtree, TMP, True)  # Blender finalizes Python when it quits
 FAILS = []
 CHECKS = [0]
 
@@ -789,7 +792,6 @@ def section_images():
               % (name, 100 * cover))
         print("%s: %s, %.0f%% covered" % (name, path, 100 * cover))
         if os.environ.get("VP_BLENDER_DOC_IMAGES") == "1":
-            import shutil
             shutil.copy(path, os.path.join(SRC, "docs", "img", name + ".png"))
 
 
@@ -893,9 +895,118 @@ def section_panel():
                                                           if m in vdbpack.METHODS]))
 
 
+def superball_inside(u, p):
+    """|x|^2p + |y|^2p + |z|^2p of points u (N, 3) in the frame of a
+    superball of exponent p scaled to bounding radius 1 (computed here:
+    the unscaled superball's bounding radius is 1 for p <= 1, else that of
+    its corner, 3^(1/2 - 1/2p)): < 1 inside, 1 on the surface."""
+    c = 1.0 if p <= 1 else 3.0 ** (0.5 - 0.5 / p)
+    return (np.abs(u * c) ** (2 * p)).sum(axis=-1)
+
+
+def section_superball():
+    """Superballs (Shape: Superball, its Exponent): a fill equals
+    vdbpack.pack(shape="superball:P") on the same mesh as a file; the
+    realized instances are P + pscale R(orient) v for every vertex v of the
+    library's tessellation, whose vertices lie on the superball's surface;
+    no vertex of one particle is inside another; the Exponent is drawn for
+    superballs only; Relax refuses them."""
+    s = fresh()
+    obj = test_cube(location=(0, 0, 0), scale=1.0)
+    path = world_obj(obj, os.path.join(TMP, "sb_container.obj"))
+    for what, panel, kwargs in (
+            ("rsa superball:2", dict(method="rsa", superball_exponent=2.0, seed=4),
+             dict(method="rsa", shape="superball:2", seed=4,
+                  passes=[{"count": 30, "radius": 0.1, "grow": True},
+                          {"count": 150, "radius": 0.05}])),
+            ("lattice superball:0.75", dict(method="lattice", superball_exponent=0.75,
+                                            size_by="COUNT", count=150, seed=1),
+             dict(method="lattice", shape="superball:0.75", count=150, seed=1))):
+        s.shape = "superball"
+        for k, v in panel.items():
+            setattr(s, k, v)
+        set_passes(s, [dict(count=30, radius=0.1, grow=True), dict(count=150, radius=0.05)]
+                   if panel["method"] == "rsa" else [])
+        activate(obj)
+        r, err = fill()
+        if not check(r == {'FINISHED'}, "%s: fill gave %s %s" % (what, r, err)):
+            continue
+        expected = vdbpack.pack(path, **kwargs)
+        res = results("Container")[0]
+        same_particles(res, expected, what)
+        check(res["vdbpack_shape"] == kwargs["shape"] == expected.shape,
+              "%s: vdbpack_shape %r" % (what, res.get("vdbpack_shape")))
+        pexp = float(kwargs["shape"].split(":")[1])
+        a = attrs(res)
+        n = len(a["P"])
+        V, _ = realized(res)
+        unit_path = os.path.join(TMP, "superball.obj")
+        vdbpack.Packing(np.zeros((1, 3)), [1.0], [[0, 0, 0, 1]], shape=kwargs["shape"]) \
+            .write_shape(unit_path)
+        u, _faces = read_obj(unit_path)
+        k = len(u)
+        f = superball_inside(u, pexp)
+        check(np.abs(f - 1).max() < 1e-6 and k > 100,
+              "%s: %d unit vertices, off the surface by up to %g" % (what, k, np.abs(f - 1).max()))
+        if not check(len(V) == n * k, "%s: %d realized vertices, expected %d x %d"
+                     % (what, len(V), n, k)):
+            continue
+        Rm = quat_matrix(a["orient"])
+        want = a["P"][:, None, :] + a["pscale"][:, None, None] * np.einsum("nij,kj->nki", Rm, u)
+        dev = np.abs(V.reshape(n, k, 3) - want).max()
+        check(dev < 2e-5, "%s: realized vertices differ from P + pscale R(orient) v by %g"
+              % (what, dev))
+        # no realized vertex of a particle inside another particle (in the
+        # other's frame, by the superball's own inequality)
+        Vn = V.reshape(n, k, 3)
+        P, R = a["P"].astype(np.float64), a["pscale"].astype(np.float64)
+        dist = np.linalg.norm(P[:, None] - P[None], axis=2)
+        close = np.argwhere(np.triu(dist < R[:, None] + R[None], 1))
+
+        def inside(i, j, X):
+            loc = (X - P[j]) @ Rm[j] / R[j]  # world to j's unit frame (R^T (x - P))
+            return superball_inside(loc, pexp).min() < 1 - 1e-4
+        bad = [(i, j) for i, j in close if inside(i, j, Vn[i]) or inside(j, i, Vn[j])]
+        check(not bad, "%s: %d pairs with a vertex inside the other, e.g. %s"
+              % (what, len(bad), bad[:3]))
+        if len(close):  # the test can fail: one moved halfway to its neighbour
+            i, j = close[0]
+            check(inside(i, j, Vn[i] + 0.5 * (P[j] - P[i])),
+                  "%s: the vertex test misses a planted overlap" % what)
+        print("%-24s %4d particles, %d vertices each, max deviation %.2g, %d close pairs"
+              % (what, n, k, dev, len(close)))
+    # the panel: Exponent with superballs only
+    panel = bpy.types.VDBPACK_PT_panel
+    for shape in ("superball", "cube", "sphere"):
+        s.method, s.shape = "rsa", shape
+        log = []
+        fake = type("P", (), {})()
+        fake.layout = FakeLayout(log)
+        panel.draw(fake, bpy.context)
+        shown = ("prop", "superball_exponent") in log
+        check(shown == (shape == "superball"), "%s: Exponent shown: %s" % (shape, shown))
+    items = [i.identifier for i in s.bl_rna.properties["shape"].enum_items]
+    check(len(items) == 21 and "superball" in items and "snub-dodecahedron" in items,
+          "the shape list is not sphere, 18 solids, superball, object: %s" % items)
+    s.method, s.shape, s.count, s.radius = "relax", "superball", 100, 0.05
+    activate(obj)
+    expect_error("relax superballs", "packs spheres only")
+    # import: a .vdb records the exponent; a .csv takes it from the operator
+    balls = vdbpack.pack("box:1,1,1", method="rsa", shape="superball:3", radius=0.1, count=40)
+    for ext, kw in ((".vdb", {}), (".csv", dict(shape="superball", superball_exponent=3.0))):
+        f = os.path.join(TMP, "balls" + ext)
+        balls.write(f)
+        r = bpy.ops.vdbpack.import_packing(filepath=f, **kw)
+        got = [o for o in bpy.data.objects if o.get("vdbpack_source") == "balls" + ext]
+        if check(r == {'FINISHED'} and len(got) == 1, "import %s: %s" % (ext, r)):
+            check(got[0]["vdbpack_shape"] == "superball:3" and len(got[0].data.vertices) == 40
+                  and "vdbpack shape superball:3" in bpy.data.objects,
+                  "import %s: shape %r" % (ext, got[0].get("vdbpack_shape")))
+
+
 SECTIONS = {"fill": section_fill, "instances": section_instances, "rerun": section_rerun,
             "cancel": section_cancel, "errors": section_errors, "io": section_io,
-            "images": section_images, "panel": section_panel}
+            "images": section_images, "panel": section_panel, "superball": section_superball}
 
 
 def main():
