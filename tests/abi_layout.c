@@ -108,6 +108,8 @@ static void structs(void) {
     F(vp_rsa_params, orient); F(vp_rsa_params, overlap); F(vp_rsa_params, passes);
     F(vp_rsa_params, npasses); F(vp_rsa_params, seed); F(vp_rsa_params, max_cells);
     F(vp_rsa_params, shape_param); F(vp_rsa_params, margin); F(vp_rsa_params, gap);
+    F(vp_rsa_params, radius_field); F(vp_rsa_params, radius_field_mode);
+    F(vp_rsa_params, density_field);
     printf("}");
 
     S(vp_rsa_pass_report);

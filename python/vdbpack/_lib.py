@@ -213,7 +213,9 @@ class vp_rsa_params(ctypes.Structure):
         ("fit", _e), ("shape", _e), ("mesh", ctypes.c_void_p), ("orient", _e), ("overlap", _e),
         ("passes", ctypes.POINTER(vp_rsa_pass)), ("npasses", ctypes.c_size_t),
         ("seed", ctypes.c_uint64), ("max_cells", ctypes.c_size_t),
-        ("shape_param", ctypes.c_double), ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
+        ("shape_param", ctypes.c_double), ("margin", ctypes.c_double), ("gap", ctypes.c_double),
+        ("radius_field", ctypes.c_void_p), ("radius_field_mode", _e),
+        ("density_field", ctypes.c_void_p)]
 
 
 class vp_rsa_pass_report(ctypes.Structure):
