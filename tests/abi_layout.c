@@ -128,6 +128,7 @@ static void structs(void) {
     F(vp_relax_params, fit); F(vp_relax_params, radius); F(vp_relax_params, count);
     F(vp_relax_params, target_fraction); F(vp_relax_params, tolerance);
     F(vp_relax_params, max_sweeps); F(vp_relax_params, seed);
+    F(vp_relax_params, radius_field); F(vp_relax_params, radius_field_mode);
     printf("}");
 
     S(vp_relax_report);
@@ -140,6 +141,7 @@ static void structs(void) {
     F(vp_jam_params, fit); F(vp_jam_params, radius); F(vp_jam_params, count);
     F(vp_jam_params, target_fraction); F(vp_jam_params, tolerance);
     F(vp_jam_params, contact_gap); F(vp_jam_params, seed);
+    F(vp_jam_params, radius_field); F(vp_jam_params, radius_field_mode);
     printf("}");
 
     S(vp_jam_report);

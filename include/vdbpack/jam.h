@@ -27,6 +27,12 @@ typedef struct vp_jam_params {
     double contact_gap;      /* a contact: a gap below this much of r_i + r_j
                                 (of 2 r_i at the wall); default 1e-4 */
     uint64_t seed;
+    /* Optional (field.h, docs/fields.md; not owned): each sphere's radius
+     * times the field at its starting centre (VP_FIELD_SCALE) or the field
+     * itself (VP_FIELD_ABSOLUTE); then, as always, all radii are scaled by
+     * one factor (their ratios stay the field's) to the jamming point */
+    const vp_field *radius_field;
+    vp_field_mode radius_field_mode;
 } vp_jam_params;
 VP_API void vp_jam_params_init(vp_jam_params *p);
 

@@ -28,6 +28,13 @@ typedef struct vp_relax_params {
                                 default 1e-6 */
     int max_sweeps;          /* 0 = automatic */
     uint64_t seed;
+    /* Optional (field.h, docs/fields.md; not owned): each sphere's radius
+     * times the field at its starting centre (VP_FIELD_SCALE) or the field
+     * itself (VP_FIELD_ABSOLUTE); with target_fraction all are then scaled
+     * by one factor to fill it. The radius relaxation then shrinks the
+     * spheres that still overlap, one by one */
+    const vp_field *radius_field;
+    vp_field_mode radius_field_mode;
 } vp_relax_params;
 VP_API void vp_relax_params_init(vp_relax_params *p);
 

@@ -235,7 +235,8 @@ class vp_relax_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
         ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
-        ("max_sweeps", ctypes.c_int), ("seed", ctypes.c_uint64)]
+        ("max_sweeps", ctypes.c_int), ("seed", ctypes.c_uint64),
+        ("radius_field", ctypes.c_void_p), ("radius_field_mode", _e)]
 
 
 class vp_relax_report(ctypes.Structure):
@@ -249,7 +250,8 @@ class vp_jam_params(ctypes.Structure):
     _fields_ = [
         ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
         ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
-        ("contact_gap", ctypes.c_double), ("seed", ctypes.c_uint64)]
+        ("contact_gap", ctypes.c_double), ("seed", ctypes.c_uint64),
+        ("radius_field", ctypes.c_void_p), ("radius_field_mode", _e)]
 
 
 class vp_jam_report(ctypes.Structure):

@@ -323,7 +323,11 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         }
         return vp_cli_parse_sizes("--radius", o->radius_text, &o->sizes);
     }
-    /* relax */
+    /* relax (with an absolute radius field, the field gives the radii) */
+    if (!have_radius && o->fields.radius.text && o->fields.mode == VP_FIELD_ABSOLUTE && have_count) {
+        vp_size_dist_constant(&o->sizes, 1.0);
+        return 0;
+    }
     if (!have_radius || !have_count)
         return vp_cli_die(2, "pack: --method relax needs --radius R (or a distribution) and "
                              "--count N");
@@ -399,7 +403,8 @@ static const struct {
     {OPT_ROTATIONS, M_LATTICE}, {OPT_PASS, M_RSA}, {OPT_RETRIES, M_RSA}, {OPT_GROW, M_RSA},
     {OPT_ORIENT, M_RSA}, {OPT_OVERLAP, M_RSA}, {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
     {OPT_TOLERANCE, M_RELAX | M_JAM}, {OPT_MARGIN, M_RSA}, {OPT_GAP, M_RSA},
-    {OPT_RADIUS_FIELD, M_RSA}, {OPT_RADIUS_FIELD_MODE, M_RSA}, {OPT_DENSITY_FIELD, M_RSA},
+    {OPT_RADIUS_FIELD, M_RSA | M_RELAX | M_JAM}, {OPT_RADIUS_FIELD_MODE, M_RSA | M_RELAX | M_JAM},
+    {OPT_DENSITY_FIELD, M_RSA},
 };
 
 static const char *option_name(int id) {
@@ -977,13 +982,15 @@ static int check_field_options(pack_opts *o, int have_radius, const unsigned cha
         if (have_radius)
             return vp_cli_die(2, "pack: --radius-field-mode absolute: the field is the radius; "
                                  "leave out --radius (scale, the default, multiplies it)");
-        if (given[OPT_TARGET_FRACTION - OPT_FORMAT])
+        if (given[OPT_TARGET_FRACTION - OPT_FORMAT] && !strcmp(o->method, "rsa"))
             return vp_cli_die(2, "pack: --radius-field-mode absolute: the field is the radius; "
                                  "--target-fraction does not go with it");
         /* the passes' radius is not used: the field's largest value sizes
          * the container's band (set once the field is read) */
-        o->rsa_count_radius = 0;
-        o->target_fraction = 0;
+        if (!strcmp(o->method, "rsa")) {
+            o->rsa_count_radius = 0;
+            o->target_fraction = 0;
+        }
         for (int i = 0; i < o->npasses; i++) vp_size_dist_constant(&o->passes[i].radius, 1.0);
     }
     return 0;
@@ -1004,6 +1011,7 @@ static int load_fields(vp_context *ctx, pack_opts *o) {
                                      "radii must be positive", f->radius.path, fi.max);
             for (int i = 0; i < o->npasses; i++)
                 vp_size_dist_constant(&o->passes[i].radius, fi.max);
+            vp_size_dist_constant(&o->sizes, fi.max); /* relax, jam: replaced by the field */
         }
     }
     if (f->density.text &&
@@ -1033,15 +1041,18 @@ static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c,
     double need = o->margin;
     vp_container_params cp;
     container_params(o, &cp);
-    if (o->fit == VP_FIT_INSIDE) need += cp.particle_radius;
+    double r = cp.particle_radius; /* else, from the count (relax, jam: at the start) */
+    if (!(r > 0) && cp.particle_count && cp.space_per_particle > 0)
+        r = cbrt(ci.volume / ((double)cp.particle_count * cp.space_per_particle));
+    if (o->fit == VP_FIT_INSIDE) need += r;
     if (an == 0) {
         cp.grid_name = f->mask.grid;
         cp.has_iso = 0;
         /* the container's voxel, coarsened where the band of 3 voxels
          * outside the mask would not reach `need` */
         if (ci.voxel_size > 0) cp.voxel_size = ci.voxel_size;
-        if (cp.voxel_size == 0 && cp.particle_radius > 0 && 1.5 * cp.particle_radius < need)
-            cp.voxel_size = 1.05 * need / 3.0; /* (automatic: half the radius) */
+        if (cp.voxel_size == 0 && need > 0) /* (automatic: half the radius or less) */
+            cp.voxel_size = 1.05 * need / 3.0;
         if (cp.voxel_size > 0 && 3.0 * cp.voxel_size < 1.05 * need)
             cp.voxel_size = 1.05 * need / 3.0;
         if (vp_container_load(ctx, f->mask.path, &cp, &m) != VP_OK) return lib_error(ctx);
@@ -1074,6 +1085,27 @@ static int check_fields(vp_context *ctx, pack_opts *o, const vp_container *c) {
                        NULL) != VP_OK)
         return lib_error(ctx);
     return 0;
+}
+
+/* relax and jam with a radius field: radii vary by up to the field's
+ * largest over its smallest value (capped at 8: a field that is 0 or
+ * negative somewhere is refused where it covers the container), so the
+ * container's band must reach that much deeper. */
+static void field_band(const pack_opts *o, vp_container_params *cp) {
+    if (!o->fields.radius_field) return;
+    vp_field_info fi;
+    vp_field_get_info(o->fields.radius_field, &fi);
+    double k = fi.min > 0 ? fi.max / fi.min : 8.0;
+    if (!(k >= 1)) k = 1;
+    if (k > 8) k = 8;
+    if (!strcmp(o->method, "relax") && !(o->target_fraction > 0) && fi.max > 0) {
+        /* radii as the field makes them: times it, or it */
+        cp->particle_radius = o->fields.mode == VP_FIELD_SCALE ? cp->particle_radius * fi.max
+                                                               : fi.max;
+        return;
+    }
+    cp->particle_radius *= k;
+    cp->space_per_particle /= k * k * k;
 }
 
 /* The fields in the summary: one line each. */
@@ -1142,6 +1174,8 @@ static void relax_params(const pack_opts *o, vp_relax_params *xp) {
     xp->target_fraction = o->target_fraction;
     if (o->tolerance > 0) xp->tolerance = o->tolerance;
     xp->seed = o->seed;
+    xp->radius_field = o->fields.radius_field;
+    xp->radius_field_mode = o->fields.mode;
 }
 
 static void jam_params(const pack_opts *o, vp_jam_params *jp) {
@@ -1152,6 +1186,8 @@ static void jam_params(const pack_opts *o, vp_jam_params *jp) {
     if (o->target_fraction > 0) jp->target_fraction = o->target_fraction;
     if (o->tolerance > 0) jp->tolerance = o->tolerance;
     jp->seed = o->seed;
+    jp->radius_field = o->fields.radius_field;
+    jp->radius_field_mode = o->fields.mode;
 }
 
 /* What loading a mesh or .vdb container needs to know of the job. */
@@ -1182,10 +1218,12 @@ static void container_params(const pack_opts *o, vp_container_params *cp) {
         vp_jam_params jp;
         jam_params(o, &jp);
         vp_container_params_for_jam(cp, &jp);
+        field_band(o, cp);
     } else {
         vp_relax_params xp;
         relax_params(o, &xp);
         vp_container_params_for_relax(cp, &xp);
+        field_band(o, cp);
     }
 }
 

@@ -5,6 +5,7 @@
 #include "core/container.h"
 #include "core/context.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -133,5 +134,39 @@ vp_result vp_field_check(vp_context *ctx, const vp_field *f, const char *name, c
                        "placed", name, what);
     if (vmin) *vmin = mn;
     if (vmax) *vmax = mx;
+    return VP_OK;
+}
+
+vp_result vp_field_radii(vp_context *ctx, const vp_container *c, const vp_field *f,
+                         vp_field_mode mode, const double *x, size_t xstride, double *r,
+                         size_t rstride, size_t n, int keep_volume, double *rmin, double *rmax) {
+    if (mode != VP_FIELD_SCALE && mode != VP_FIELD_ABSOLUTE)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "unknown radius field mode");
+    vp_result res = vp_field_check(ctx, f, "radius field", "radius field", 1, c, NULL, NULL);
+    if (res != VP_OK) return res;
+    double before = 0.0, after = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double *ri = r + rstride * i, v = vp_field_at(f, x + xstride * i);
+        if (!(v > 0) || !isfinite(v))
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "the radius field gives %g at (%g, %g, %g); radii must be positive", v,
+                           x[xstride * i], x[xstride * i + 1], x[xstride * i + 2]);
+        before += *ri * *ri * *ri;
+        *ri = mode == VP_FIELD_ABSOLUTE ? v : *ri * v;
+        after += *ri * *ri * *ri;
+    }
+    double k = keep_volume && after > 0 ? cbrt(before / after) : 1.0, lo = HUGE_VAL, hi = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double *ri = r + rstride * i;
+        *ri *= k;
+        if (*ri < lo) lo = *ri;
+        if (*ri > hi) hi = *ri;
+    }
+    if (n && (!(lo >= FLT_MIN) || !(hi <= FLT_MAX)))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "the radius field gives radii of %g..%g, outside 1.2e-38..3.4e38 (radii "
+                       "are stored as float)", lo, hi);
+    if (rmin) *rmin = lo;
+    if (rmax) *rmax = hi;
     return VP_OK;
 }

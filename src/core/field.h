@@ -6,6 +6,8 @@
 #ifndef VDBPACK_CORE_FIELD_H
 #define VDBPACK_CORE_FIELD_H
 
+#include <stddef.h>
+
 #include "vdbpack/vdbpack.h"
 
 struct vp_field {
@@ -22,6 +24,15 @@ struct vp_field {
  * failure user is NOT freed. */
 vp_result vp_field_wrap(vp_context *ctx, const vp_field_ops *ops, void *user,
                         const vp_field_info *info, vp_field **out);
+
+/* The dense packers' radius field (docs/fields.md): after vp_field_check
+ * against c, radius i (at r[rstride * i]) becomes f(x_i) times it (scale)
+ * or f(x_i) (absolute), x_i at x[xstride * i]; with keep_volume, then all
+ * are scaled by one factor that keeps the sum of their cubes. rmin, rmax
+ * (may be NULL): the new smallest and largest. */
+vp_result vp_field_radii(vp_context *ctx, const vp_container *c, const vp_field *f,
+                         vp_field_mode mode, const double *x, size_t xstride, double *r,
+                         size_t rstride, size_t n, int keep_volume, double *rmin, double *rmax);
 
 static inline double vp_field_at(const vp_field *f, const double p[3]) {
     return f->ops.sample(f->user, p);
