@@ -164,6 +164,19 @@ print("cube mask: %d particles, least clearance %.5f, %d within 0.1" % (len(r), 
 assert d.min() >= -0.002 and (d < 0.1).sum() > 20
 PY
 done
+# vdbpack check applies the mask the file records (mesh: at its voxel)
+for mask in cube.obj ball.vdb sphere:0.25; do
+  "$VDBPACK" pack box:1,1,1 --method rsa --radius 0.02 --count max --mask "$mask" -o mk.vdb -q
+  "$VDBPACK" check mk.vdb --container box:1,1,1 -q || die "check of a packing with --mask $mask"
+  "$VDBPACK" check mk.vdb --container box:1,1,1 --json | grep -q "\"mask\":\"$mask\"" \
+    || die "check --json does not name the mask $mask"
+done
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.02 --count max -o nm.vdb -q
+set +e
+"$VDBPACK" check nm.vdb --container box:1,1,1 --mask sphere:0.25 -q 2>/dev/null; st=$?
+set -e
+[ "$st" -eq 3 ] || die "check --mask passed a packing that fills the mask (status $st)"
+"$VDBPACK" check mk.vdb --container box:1,1,1 --mask none -q || die "check --mask none"
 # the packing fraction counts the container less the mask
 "$VDBPACK" pack box:1,1,1 --radius 0.03 --mask sphere:0.25 -o l.vdb --json >l.json
 $PY - <<'PY' || die "the masked container's volume"

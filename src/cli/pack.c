@@ -39,6 +39,7 @@ typedef struct pack_fields {
     int mode_set;
     vp_field *radius_field, *density_field; /* loaded; owned by vp_cli_pack */
     double rmin, rmax;      /* the radius field's range over the container */
+    double mask_voxel;      /* a mesh or level-set mask's voxel (metadata, for check) */
 } pack_fields;
 
 typedef struct pack_opts {
@@ -1057,6 +1058,9 @@ static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c,
             cp.voxel_size = 1.05 * need / 3.0;
         if (vp_container_load(ctx, f->mask.path, &cp, &m) != VP_OK) return lib_error(ctx);
     }
+    vp_container_info mki;
+    vp_container_get_info(m, &mki);
+    f->mask_voxel = mki.voxel_size;
     vp_container *cm = NULL;
     if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK) {
         vp_container_destroy(m);
@@ -1701,6 +1705,8 @@ int vp_cli_pack(int argc, char **argv) {
     if (o.has_iso) meta[nmeta++] = (vp_meta){"iso", VP_META_DOUBLE, NULL, 0, o.iso};
     if (o.fields.mask.text)
         meta[nmeta++] = (vp_meta){"mask", VP_META_STRING, o.fields.mask.text, 0, 0};
+    if (o.fields.mask_voxel > 0)
+        meta[nmeta++] = (vp_meta){"mask_voxel_size", VP_META_DOUBLE, NULL, 0, o.fields.mask_voxel};
     if (o.fields.radius.text) {
         meta[nmeta++] = (vp_meta){"radius_field", VP_META_STRING, o.fields.radius.text, 0, 0};
         meta[nmeta++] = (vp_meta){"radius_field_mode", VP_META_STRING,
