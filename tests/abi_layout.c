@@ -98,6 +98,11 @@ static void structs(void) {
     F(vp_size_dist, values);
     printf("}");
 
+    S(vp_field_info);
+    F(vp_field_info, bmin); F(vp_field_info, bmax); F(vp_field_info, voxel_size);
+    F(vp_field_info, min); F(vp_field_info, max); F(vp_field_info, grid_name);
+    printf("}");
+
     S(vp_rsa_pass);
     F(vp_rsa_pass, count); F(vp_rsa_pass, maximal); F(vp_rsa_pass, radius);
     F(vp_rsa_pass, retries); F(vp_rsa_pass, grow); F(vp_rsa_pass, name);

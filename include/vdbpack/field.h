@@ -89,14 +89,14 @@ VP_API vp_result vp_field_check(vp_context *ctx, const vp_field *f, const char *
 /* A container with a mask taken out: the inside of base where mask is
  * not inside, as a signed distance max(d_base, -d_mask) (exact where one
  * of the two is the nearer wall, a bound elsewhere, as any union of
- * level sets). The new container owns base and mask on success (they are
- * destroyed with it); on failure the caller keeps both. Its bounds are
+ * level sets). base and mask are borrowed, not owned: they must outlive
+ * the new container (destroy it first), which any binding can keep to. Its bounds are
  * base's; its volume, base's less the part of mask inside base (counted
  * on a grid of about 2^21 points over the box both share); its interior
  * band, the smaller of base's band and mask's exterior band (a level set
  * mask knows distances only that far outside it). */
-VP_API vp_result vp_container_subtract(vp_context *ctx, vp_container *base, vp_container *mask,
-                                       vp_container **out);
+VP_API vp_result vp_container_subtract(vp_context *ctx, const vp_container *base,
+                                       const vp_container *mask, vp_container **out);
 
 #ifdef __cplusplus
 }

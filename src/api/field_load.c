@@ -53,7 +53,7 @@ vp_result vp_field_load(vp_context *ctx, const char *path, const char *grid_name
 /* --- a container less a mask ------------------------------------------- */
 
 typedef struct masked {
-    vp_container *base, *mask;
+    const vp_container *base, *mask; /* borrowed */
 } masked;
 
 static double masked_distance(void *user, const double p[3]) {
@@ -73,12 +73,7 @@ static void masked_gradient(void *user, const double p[3], double g[3]) {
     for (int k = 0; k < 3; k++) g[k] = -g[k];
 }
 
-static void masked_destroy(void *user) {
-    masked *m = user;
-    vp_container_destroy(m->base);
-    vp_container_destroy(m->mask);
-    free(m);
-}
+static void masked_destroy(void *user) { free(user); }
 
 static int masked_inside_box(const vp_container *c, double lo[3], double hi[3]) {
     const masked *m = c->user;
@@ -115,8 +110,8 @@ static double overlap_volume(const vp_container *base, const vp_container *mask)
     return vol * (double)in / ((double)n[0] * (double)n[1] * (double)n[2]);
 }
 
-vp_result vp_container_subtract(vp_context *ctx, vp_container *base, vp_container *mask,
-                                vp_container **out) {
+vp_result vp_container_subtract(vp_context *ctx, const vp_container *base,
+                                const vp_container *mask, vp_container **out) {
     if (!out || !base || !mask)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "mask: a container, a mask and out are "
                                                      "required");

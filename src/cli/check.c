@@ -68,7 +68,8 @@ static const char *meta_value(const char *json, const char *key) {
 /* --mask M: M's inside taken out of container *c (as pack --mask does):
  * analytic, a mesh (voxelized at the voxel pack recorded), or a .vdb level
  * set, FILE.vdb[:GRID]. 0, or the exit status after one line. */
-static int check_mask(vp_context *ctx, const char *mask, double voxel, vp_container **c) {
+static int check_mask(vp_context *ctx, const char *mask, double voxel, vp_container **c,
+                      vp_container **base, vp_container **mask_c) {
     vp_container *m = NULL;
     int an = vp_cli_analytic_container(ctx, mask, &m);
     if (an == -2) return vp_cli_die(2, "check: --mask: %s", vp_context_message(ctx));
@@ -92,11 +93,11 @@ static int check_mask(vp_context *ctx, const char *mask, double voxel, vp_contai
         if (vp_container_load(ctx, path, &kp, &m) != VP_OK)
             return vp_cli_die(1, "check: --mask: %s", vp_context_message(ctx));
     }
+    *mask_c = m;
     vp_container *cm = NULL;
-    if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK) {
-        vp_container_destroy(m);
+    if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK)
         return vp_cli_die(1, "check: --mask %s: %s", mask, vp_context_message(ctx));
-    }
+    *base = *c; /* borrowed by cm: freed after it */
     *c = cm;
     return 0;
 }
@@ -191,7 +192,7 @@ int vp_cli_check(int argc, char **argv) {
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
     int status = 1;
     vp_particles *p = NULL;
-    vp_container *c = NULL;
+    vp_container *c = NULL, *base = NULL, *mask_c = NULL;
     vp_mesh_shape *mesh = NULL;
     char *desc = NULL;
     if (vp_read_points(ctx, file, &p) != VP_OK) {
@@ -294,7 +295,8 @@ int vp_cli_check(int argc, char **argv) {
         vp_container_get_info(c, &ci);
         if (!quiet) vp_cli_warn_container(&ci);
     }
-    if (mask && strcmp(mask, "none") != 0 && (status = check_mask(ctx, mask, mask_voxel, &c)) != 0)
+    if (mask && strcmp(mask, "none") != 0 &&
+        (status = check_mask(ctx, mask, mask_voxel, &c, &base, &mask_c)) != 0)
         goto done;
     status = 1;
     vp_check_report rep;
@@ -373,6 +375,8 @@ done:
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
+    vp_container_destroy(base); /* (after c, which borrows it and the mask) */
+    vp_container_destroy(mask_c);
     vp_context_destroy(ctx);
     return status;
 }

@@ -40,6 +40,8 @@ typedef struct pack_fields {
     vp_field *radius_field, *density_field; /* loaded; owned by vp_cli_pack */
     double rmin, rmax;      /* the radius field's range over the container */
     double mask_voxel;      /* a mesh or level-set mask's voxel (metadata, for check) */
+    vp_container *base, *mask_c; /* with --mask: the container and the mask, which
+                                    the masked container borrows (freed after it) */
 } pack_fields;
 
 typedef struct pack_opts {
@@ -1022,12 +1024,10 @@ static int load_fields(vp_context *ctx, pack_opts *o) {
 }
 
 /* --mask: the container less the mask's inside. *c becomes the masked
- * container (owning the old one); base keeps the old one for
- * --save-container. */
-static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c,
-                      const vp_container **base) {
+ * container; o->fields.base keeps the old one (for --save-container) and
+ * mask_c the mask, both freed after *c. */
+static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c) {
     pack_fields *f = &o->fields;
-    *base = *c;
     if (!f->mask.text) return 0;
     vp_container *m = NULL;
     int an = vp_cli_analytic_container(ctx, f->mask.text, &m);
@@ -1061,11 +1061,11 @@ static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c,
     vp_container_info mki;
     vp_container_get_info(m, &mki);
     f->mask_voxel = mki.voxel_size;
+    f->mask_c = m;
     vp_container *cm = NULL;
-    if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK) {
-        vp_container_destroy(m);
+    if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK)
         return vp_cli_die(1, "pack: --mask %s: %s", f->mask.text, vp_context_message(ctx));
-    }
+    f->base = *c;
     *c = cm;
     vp_container_info mi;
     vp_container_get_info(cm, &mi);
@@ -1607,8 +1607,7 @@ int vp_cli_pack(int argc, char **argv) {
         goto done;
     }
 
-    const vp_container *base = c; /* without the mask, for --save-container */
-    if ((status = apply_mask(ctx, &o, &c, &base)) != 0) goto done;
+    if ((status = apply_mask(ctx, &o, &c)) != 0) goto done;
     if ((status = check_fields(ctx, &o, c)) != 0) goto done;
     status = 1;
     vp_container_info ci;
@@ -1659,7 +1658,8 @@ int vp_cli_pack(int argc, char **argv) {
     double fraction = ci.volume > 0 ? vp_particles_volume(p) / ci.volume : 0.0;
 
     if (o.save_container) {
-        if (vp_container_save(ctx, base, o.save_container) != VP_OK) {
+        if (vp_container_save(ctx, o.fields.base ? o.fields.base : c, o.save_container) !=
+            VP_OK) {
             status = lib_error(ctx);
             goto done;
         }
@@ -1819,6 +1819,8 @@ done:
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
+    vp_container_destroy(o.fields.base); /* (after c, which borrows them) */
+    vp_container_destroy(o.fields.mask_c);
     vp_field_destroy(o.fields.radius_field);
     vp_field_destroy(o.fields.density_field);
     vp_context_destroy(ctx);
