@@ -1471,6 +1471,10 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             printf("  %s: radius %s, placed %zu", p->group_names[i], sz, pr->placed);
             if (o->passes[i].maximal && pr->stop == VP_RSA_STOP_MAXIMAL)
                 printf(" (maximal: no room left)");
+            else if (o->passes[i].maximal && (o->fields.radius_field || o->fields.density_field))
+                printf(" (with a field, count=max ends after %d failed tries in a row, see "
+                       "docs/fields.md)",
+                       o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (o->passes[i].maximal && o->shape != VP_SHAPE_SPHERE)
                 printf(" (maximal mode for solids: stopped by %d failed tries in a row, see "
                        "docs/rsa.md)",
