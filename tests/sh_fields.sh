@@ -57,6 +57,22 @@ fit_radii h.csv 0.03 0.015 || die "radius field (scale): radii do not follow the
 "$VDBPACK" pack box:1,1,1 --method rsa --count 1500 --radius-field halve_abs.vdb:radius \
   --radius-field-mode absolute -o a.csv -q || die "radius field (absolute)"
 fit_radii a.csv 0.03 0.015 || die "radius field (absolute): radii do not follow the field"
+# with --margin and --gap: measured here, and by check (from the metadata)
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 800 --radius-field halve.vdb \
+  --margin 0.05 --gap 0.01 -o mg.csv -q || die "radius field with margin and gap"
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 800 --radius-field halve.vdb \
+  --margin 0.05 --gap 0.01 -o mg.vdb -q
+"$VDBPACK" check mg.vdb --container box:1,1,1 -q || die "check: radius field with margin and gap"
+$PY - <<'PY' || die "radius field: margin or gap not kept"
+import numpy as np
+a = np.loadtxt("mg.csv", delimiter=",", skiprows=1, usecols=(1, 2, 3, 4))
+x, r = a[:, :3], a[:, 3]
+wall = (0.5 - (np.abs(x).max(axis=1) + r)).min()
+gap = min((np.linalg.norm(x[i + 1:] - x[i], axis=1) - r[i + 1:] - r[i]).min()
+          for i in range(len(r) - 1))
+print("margin 0.05: nearest wall %.6f; gap 0.01: nearest pair %.6f" % (wall, gap))
+assert len(r) == 800 and wall >= 0.05 - 1e-7 and gap >= 0.01 - 1e-7
+PY
 # a named grid of two
 "$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 1500 --radius-field two.vdb:second \
   -o t.csv -q || die "radius field, named grid"
@@ -208,6 +224,8 @@ refuse "no grid named 'nope'" "${RSA[@]}" --radius-field halve.vdb:nope
 refuse "NaN value" "${RSA[@]}" --radius-field nan.vdb
 refuse "radii must be positive" "${RSA[@]}" --radius-field negative.vdb
 refuse "radii must be positive" "${RSA[@]}" --radius-field zero.vdb
+refuse "smaller than the smallest radius the field gives" "${RSA[@]}" --radius-field halve.vdb \
+  --gap 0.02
 refuse "does not cover the container" "${RSA[@]}" --radius-field small.vdb
 refuse "does not cover the container" "${RSA[@]}" --density-field small.vdb
 refuse "must not be negative" "${RSA[@]}" --density-field neg_density.vdb
