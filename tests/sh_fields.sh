@@ -99,6 +99,8 @@ FIT_TOL=0.02 fit_radii r.csv 0.03 0.015 || die "relax radius field (absolute)"
 "$VDBPACK" pack box:1,1,1 --method jam --count 800 --radius-field halve.vdb -o j.vdb -q \
   || die "jam radius field"
 "$VDBPACK" check j.vdb --container box:1,1,1 -q || die "check of the jam radius-field packing"
+"$VDBPACK" pack box:1,1,1 --method jam --count 200 --radius-field halve.vdb -o j2.csv --json \
+  | grep -q '"radius_field":"halve.vdb","radius_field_mode":"scale"' || die "jam --json: the field"
 "$VDBPACK" convert j.vdb j.csv -q
 $PY - <<'PY' || die "jam radius field: the radii do not keep the field's ratios"
 import numpy as np

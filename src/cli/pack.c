@@ -1403,6 +1403,7 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                "\"max_overlap\":%.17g", x->sweeps, x->radius_scale, x->initial_fraction,
                x->max_overlap);
     }
+    if (strcmp(o->method, "rsa") != 0) json_fields(o); /* (rsa: with its passes) */
     printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
            (unsigned long long)o->seed, threads, rr->pack_seconds, seconds);
     vp_cli_json_string(stdout, o->output);
