@@ -161,6 +161,9 @@ extern "C" double vpv_field_sample(const vpv_field *f, const double p[3])
 {
     try {
         openvdb::Vec3d i = f->grid->transform().worldToIndex(openvdb::Vec3d(p[0], p[1], p[2]));
+        // (a NaN index would reach Coord::floor's conversion to int)
+        if (!std::isfinite(i[0]) || !std::isfinite(i[1]) || !std::isfinite(i[2]))
+            return std::nan("");
         for (int a = 0; a < 3; ++a) i[a] = std::min(std::max(i[a], f->clo[a]), f->chi[a]);
         return double(openvdb::tools::BoxSampler::sample(f->grid->tree(), i));
     } catch (...) {
