@@ -244,6 +244,14 @@ refuse "pack spheres" "${RSA[@]}" --shape cube --radius-field halve.vdb
 refuse "cannot open file" "${RSA[@]}" --mask missing.obj
 refuse "covers the whole container" "${RSA[@]}" --mask box:2,2,2
 refuse "holds distances only" --method jam --count 800 --mask ball.vdb
+# an output that is a field or mask file would replace it (exit 2, the file kept)
+cp halve.vdb keep.vdb
+set +e
+"$VDBPACK" pack box:1,1,1 --method rsa --radius 0.03 --count 10 --radius-field keep.vdb \
+  -o ./keep.vdb 2>err.txt; st=$?
+set -e
+[ "$st" -eq 2 ] && grep -q "is the --radius-field itself" err.txt && cmp -s keep.vdb halve.vdb \
+  || die "an output naming the radius field: status $st, $(cat err.txt)"
 # a points grid (a packing) is not a field
 "$VDBPACK" pack box:1,1,1 --radius 0.1 -o pts.vdb -q
 refuse "holds points values, not float" "${RSA[@]}" --radius-field pts.vdb:points

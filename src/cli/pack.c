@@ -761,11 +761,15 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
      * files read (the container, a --shape mesh): a TD would lose one */
     const char *outs[4] = {o->output, o->save_container, o->shape_out, o->preview};
     const char *names[4] = {"-o", "--save-container", "--shape-out", "--preview"};
-    const char *ins[2] = {o->container, o->shape_file};
-    const char *inames[2] = {"the container", "the --shape mesh"};
+    const char *ins[5] = {o->container, o->shape_file,
+                          o->fields.mask.text ? o->fields.mask.path : NULL,
+                          o->fields.radius.text ? o->fields.radius.path : NULL,
+                          o->fields.density.text ? o->fields.density.path : NULL};
+    const char *inames[5] = {"the container", "the --shape mesh", "the --mask",
+                             "the --radius-field", "the --density-field"};
     for (int i = 0; i < 4; i++) {
         if (!outs[i]) continue;
-        for (int k = 0; k < 2; k++)
+        for (int k = 0; k < 5; k++)
             if (ins[k] && vp_cli_same_file(outs[i], ins[k]))
                 return vp_cli_die(2, "pack: %s %s is %s itself: writing would replace it",
                                   names[i], outs[i], inames[k]);
