@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Fields read from .vdb float grids (the sampler is src/vdb/vdb_field.cpp)
  * and containers with a mask taken out (include/vdbpack/field.h). */
+#include "api/probe.h"
 #include "core/container.h"
 #include "core/context.h"
 #include "core/field.h"
@@ -19,6 +20,19 @@ static int grid_range(const vp_field *f, const double lo[3], const double hi[3],
     return vpv_field_range(f->user, lo, hi, vmin, vmax, err, errlen) == VP_OK ? 0 : -1;
 }
 
+typedef struct probe_field_arg {
+    const char *path, *grid;
+} probe_field_arg;
+
+/* The whole read, checks included, in the probe's throw-away child. */
+static int probe_field(const void *arg, char *err, size_t errlen) {
+    const probe_field_arg *a = arg;
+    vpv_field *f = NULL;
+    int rc = vpv_field_read(a->path, a->grid, &f, err, errlen);
+    vpv_field_destroy(f);
+    return rc;
+}
+
 vp_result vp_field_load(vp_context *ctx, const char *path, const char *grid_name,
                         vp_field **out) {
     if (!out || !path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "field: no file given");
@@ -26,6 +40,11 @@ vp_result vp_field_load(vp_context *ctx, const char *path, const char *grid_name
     char why[1024];
     if (vp_os_check_input(path, why, sizeof why) != 0)
         return vp_fail(ctx, VP_ERR_IO, "%s", why);
+    /* as a container's .vdb: OpenVDB's reader first in a child with a
+     * deadline and the memory limit (a hostile file crashes or hangs it) */
+    probe_field_arg pa = {path, grid_name};
+    vp_result pr = vp_probe_read(ctx, path, probe_field, &pa);
+    if (pr != VP_OK) return pr;
     char err[1024] = "";
     vpv_field *g = NULL;
     int rc = vpv_field_read(path, grid_name, &g, err, sizeof err);
