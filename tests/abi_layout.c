@@ -99,6 +99,11 @@ static void structs(void) {
     F(vp_size_dist, values);
     printf("}");
 
+    S(vp_field_info);
+    F(vp_field_info, bmin); F(vp_field_info, bmax); F(vp_field_info, voxel_size);
+    F(vp_field_info, min); F(vp_field_info, max); F(vp_field_info, grid_name);
+    printf("}");
+
     S(vp_rsa_pass);
     F(vp_rsa_pass, count); F(vp_rsa_pass, maximal); F(vp_rsa_pass, radius);
     F(vp_rsa_pass, retries); F(vp_rsa_pass, grow); F(vp_rsa_pass, name);
@@ -109,6 +114,8 @@ static void structs(void) {
     F(vp_rsa_params, orient); F(vp_rsa_params, overlap); F(vp_rsa_params, passes);
     F(vp_rsa_params, npasses); F(vp_rsa_params, seed); F(vp_rsa_params, max_cells);
     F(vp_rsa_params, shape_param); F(vp_rsa_params, margin); F(vp_rsa_params, gap);
+    F(vp_rsa_params, radius_field); F(vp_rsa_params, radius_field_mode);
+    F(vp_rsa_params, density_field);
     printf("}");
 
     S(vp_rsa_pass_report);
@@ -128,6 +135,7 @@ static void structs(void) {
     F(vp_relax_params, target_fraction); F(vp_relax_params, tolerance);
     F(vp_relax_params, max_sweeps); F(vp_relax_params, seed);
     F(vp_relax_params, margin); F(vp_relax_params, gap);
+    F(vp_relax_params, radius_field); F(vp_relax_params, radius_field_mode);
     printf("}");
 
     S(vp_relax_report);
@@ -141,6 +149,7 @@ static void structs(void) {
     F(vp_jam_params, target_fraction); F(vp_jam_params, tolerance);
     F(vp_jam_params, contact_gap); F(vp_jam_params, seed);
     F(vp_jam_params, margin); F(vp_jam_params, gap);
+    F(vp_jam_params, radius_field); F(vp_jam_params, radius_field_mode);
     printf("}");
 
     S(vp_jam_report);

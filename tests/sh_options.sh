@@ -46,7 +46,7 @@ echo "  ok: one packing for --radius 0.05, --radius=0.05, --rad 0.05 (-qo), and 
 # captured whole: head closing the pipe early would kill the writer (pipefail)
 he=$("$VDBPACK" pack box:1,1,1 --he) || die "--he failed"
 printf '%s\n' "$he" | sed -n 1p | grep -q "^Usage: vdbpack pack" || die "--he is not --help"
-bad 2 "is ambiguous (--radius, --retries, --rotate, --rotations)" box:1,1,1 --r 0.05 -o bad.csv
+bad 2 "is ambiguous (--radius, --retries, --rotate, --rotations, --radius-field, --radius-field-mode)" box:1,1,1 --r 0.05 -o bad.csv
 bad 2 "unknown option '--frobnicate'" box:1,1,1 --radius 0.05 -o bad.csv --frobnicate
 bad 2 "--grow takes no value" box:1,1,1 --method rsa --radius 0.05 --count 10 --grow=1 -o bad.csv
 bad 2 "--radius needs a value" box:1,1,1 -o bad.csv --radius

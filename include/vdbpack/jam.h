@@ -32,6 +32,12 @@ typedef struct vp_jam_params {
                                 fit center); default 0 */
     double gap;              /* world distance kept between the surfaces of
                                 any two (smaller than the radii); default 0 */
+    /* Optional (field.h, docs/fields.md; not owned): each sphere's radius
+     * times the field at its starting centre (VP_FIELD_SCALE) or the field
+     * itself (VP_FIELD_ABSOLUTE); then, as always, all radii are scaled by
+     * one factor (their ratios stay the field's) to the jamming point */
+    const vp_field *radius_field;
+    vp_field_mode radius_field_mode;
 } vp_jam_params;
 VP_API void vp_jam_params_init(vp_jam_params *p);
 

@@ -33,6 +33,13 @@ typedef struct vp_relax_params {
                                 fit center); default 0 */
     double gap;              /* world distance kept between the surfaces of
                                 any two (smaller than the radii); default 0 */
+    /* Optional (field.h, docs/fields.md; not owned): each sphere's radius
+     * times the field at its starting centre (VP_FIELD_SCALE) or the field
+     * itself (VP_FIELD_ABSOLUTE); with target_fraction all are then scaled
+     * by one factor to fill it. The radius relaxation then shrinks the
+     * spheres that still overlap, one by one */
+    const vp_field *radius_field;
+    vp_field_mode radius_field_mode;
 } vp_relax_params;
 VP_API void vp_relax_params_init(vp_relax_params *p);
 

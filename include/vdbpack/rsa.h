@@ -66,6 +66,21 @@ typedef struct vp_rsa_params {
                                   with fit center); default 0 */
     double gap;                /* spheres: world distance between the surfaces
                                   of any two (< the smallest radius); default 0 */
+    /* Fields (field.h, docs/fields.md; spheres only, not owned, NULL =
+     * none). With either, the passes run the field packer: darts uniform in
+     * the container, each given the radius at its centre and kept with the
+     * density's probability; a pass ends at its count or its retry limit
+     * (count=max included; grow is refused). The fields must cover the
+     * container (vp_field_check), or VP_ERR_INVALID_ARGUMENT. */
+    const vp_field *radius_field;   /* the radius at each centre: with
+                                       VP_FIELD_SCALE (default) times a radius
+                                       drawn from the pass's distribution,
+                                       with VP_FIELD_ABSOLUTE the radius itself
+                                       (the pass's radius is then ignored) */
+    vp_field_mode radius_field_mode;
+    const vp_field *density_field;  /* relative number density: a dart at x is
+                                       kept with probability f(x) / max f over
+                                       the container (>= 0, not all 0) */
 } vp_rsa_params;
 VP_API void vp_rsa_params_init(vp_rsa_params *p);
 

@@ -571,6 +571,7 @@ VP_API vp_result vp_describe_file(vp_context *ctx, const char *path, int json, c
 
 /* Per-topic parts of the API. */
 #include "vdbpack/size_dist.h"
+#include "vdbpack/field.h"
 #include "vdbpack/rsa.h"
 #include "vdbpack/relax.h"
 #include "vdbpack/jam.h"

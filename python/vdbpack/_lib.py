@@ -215,7 +215,16 @@ class vp_rsa_params(ctypes.Structure):
         ("fit", _e), ("shape", _e), ("mesh", ctypes.c_void_p), ("orient", _e), ("overlap", _e),
         ("passes", ctypes.POINTER(vp_rsa_pass)), ("npasses", ctypes.c_size_t),
         ("seed", ctypes.c_uint64), ("max_cells", ctypes.c_size_t),
-        ("shape_param", ctypes.c_double), ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
+        ("shape_param", ctypes.c_double), ("margin", ctypes.c_double), ("gap", ctypes.c_double),
+        ("radius_field", ctypes.c_void_p), ("radius_field_mode", _e),
+        ("density_field", ctypes.c_void_p)]
+
+
+class vp_field_info(ctypes.Structure):
+    _fields_ = [
+        ("bmin", ctypes.c_double * 3), ("bmax", ctypes.c_double * 3),
+        ("voxel_size", ctypes.c_double), ("min", ctypes.c_double), ("max", ctypes.c_double),
+        ("grid_name", ctypes.c_char * 128)]
 
 
 class vp_rsa_pass_report(ctypes.Structure):
@@ -236,7 +245,8 @@ class vp_relax_params(ctypes.Structure):
         ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
         ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
         ("max_sweeps", ctypes.c_int), ("seed", ctypes.c_uint64),
-        ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
+        ("margin", ctypes.c_double), ("gap", ctypes.c_double),
+        ("radius_field", ctypes.c_void_p), ("radius_field_mode", _e)]
 
 
 class vp_relax_report(ctypes.Structure):
@@ -251,7 +261,8 @@ class vp_jam_params(ctypes.Structure):
         ("fit", _e), ("radius", vp_size_dist), ("count", ctypes.c_size_t),
         ("target_fraction", ctypes.c_double), ("tolerance", ctypes.c_double),
         ("contact_gap", ctypes.c_double), ("seed", ctypes.c_uint64),
-        ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
+        ("margin", ctypes.c_double), ("gap", ctypes.c_double),
+        ("radius_field", ctypes.c_void_p), ("radius_field_mode", _e)]
 
 
 class vp_jam_report(ctypes.Structure):
@@ -306,7 +317,7 @@ class vp_export_params(ctypes.Structure):
 # every mirrored struct, for the layout test
 STRUCTS = (vp_container_ops, vp_container_info, vp_container_params, vp_particles,
            vp_lattice_params, vp_lattice_report, vp_meta, vp_write_report, vp_write_params,
-           vp_size_dist, vp_rsa_pass, vp_rsa_params, vp_rsa_pass_report, vp_rsa_report,
+           vp_size_dist, vp_field_info, vp_rsa_pass, vp_rsa_params, vp_rsa_pass_report, vp_rsa_report,
            vp_relax_params, vp_relax_report, vp_jam_params, vp_jam_report, vp_check_params,
            vp_check_report, vp_render_params, vp_image, vp_export_params)
 
@@ -368,6 +379,12 @@ for _name, _r, _a in [
         ("vp_container_from_mesh", _res,
          (_vp, _vp, _z, _vp, _z, _P(vp_container_params), _P(_vp))),
         ("vp_container_destroy", None, (_vp,)),
+        ("vp_container_subtract", _res, (_vp, _vp, _vp, _P(_vp))),
+        ("vp_field_load", _res, (_vp, _s, _s, _P(_vp))),
+        ("vp_field_destroy", None, (_vp,)),
+        ("vp_field_get_info", None, (_vp, _P(vp_field_info))),
+        ("vp_field_sample", _d, (_vp, _P(_d))),
+        ("vp_field_check", _res, (_vp, _vp, _s, _s, ctypes.c_int, _vp, _P(_d), _P(_d))),
         ("vp_container_get_info", None, (_vp, _P(vp_container_info))),
         ("vp_container_distances", None, (_vp, _vp, _z, _vp)),
         ("vp_container_save", _res, (_vp, _vp, _s)),

@@ -27,11 +27,15 @@ METHODS = ("lattice", "rsa", "relax", "jam")
 # the options of each method; the others are common to all of them
 _BY_METHOD = {
     "lattice": ("radius", "count", "lattice", "offsets", "rotate", "rotations"),
-    "rsa": ("radius", "count", "passes", "retries", "grow", "orient", "overlap"),
-    "relax": ("radius", "count", "target_fraction", "tolerance", "max_sweeps"),
-    "jam": ("radius", "count", "target_fraction", "tolerance"),
+    "rsa": ("radius", "count", "passes", "retries", "grow", "orient", "overlap",
+            "radius_field", "radius_field_mode", "density_field"),
+    "relax": ("radius", "count", "target_fraction", "tolerance", "max_sweeps", "radius_field",
+              "radius_field_mode"),
+    "jam": ("radius", "count", "target_fraction", "tolerance", "radius_field",
+            "radius_field_mode"),
 }
-_COMMON = ("shape", "fit", "seed", "threads", "max_memory", "progress")
+_COMMON = ("shape", "fit", "seed", "threads", "max_memory", "progress", "mask")
+_FIELD_MODES = {"scale": 0, "absolute": 1}
 _LOAD = ("voxel_size", "inside", "iso", "grid")
 _ALL = set(_COMMON) | set(_LOAD) | {k for v in _BY_METHOD.values() for k in v} | {"allow_open"}
 _GROUP_NAME = re.compile(r"^(?!__)[A-Za-z0-9_]{1,31}$")
@@ -242,6 +246,26 @@ def _prepare(method, options):
         orient = 1 if overlap == 1 else 0
 
     has_radius, has_count = "radius" in given, "count" in given
+    # -- fields (docs/fields.md), as check_field_options
+    rf_mode = 0
+    if "radius_field_mode" in given:
+        if "radius_field" not in given:
+            raise ValueError("radius_field_mode goes with radius_field")
+        rf_mode = _arrays.choice(given["radius_field_mode"], "radius_field_mode", _FIELD_MODES)
+    if ("radius_field" in given or "density_field" in given) and shape_id != 0:
+        raise ValueError("radius_field and density_field pack spheres in this version, not "
+                         "shape=%r" % (shape_opt,))
+    if "radius_field" in given and rf_mode == 1:
+        if has_radius:
+            raise ValueError("radius_field_mode='absolute': the field is the radius; leave out "
+                             "radius (scale, the default, multiplies it)")
+        if method == "rsa" and "target_fraction" in given:
+            raise ValueError("radius_field_mode='absolute': the field is the radius; "
+                             "target_fraction does not go with it")
+        if method in ("rsa", "relax") and "passes" not in given:
+            # the radius is the field's: a placeholder until it is read
+            given["radius"] = 1.0
+            has_radius = True
     mesh = None
     if method == "lattice":
         lp = _lib.vp_lattice_params()
@@ -389,6 +413,109 @@ def _prepare(method, options):
     return locals()
 
 
+class _Field:
+    """A field read from FILE.vdb[:GRID] (vp_field_load), freed with the
+    object."""
+
+    def __init__(self, spec, name):
+        if not isinstance(spec, (str, os.PathLike)):
+            raise TypeError("%s must be a file name FILE.vdb[:GRID], not %r" % (name, spec))
+        self.text = os.fsdecode(os.fspath(spec))
+        path, grid = _split_grid(self.text)
+        self.ptr = ctypes.c_void_p()
+        pb, gb = _arrays.path(path, name), grid.encode("utf-8") if grid is not None else None
+        _call.quick(lambda ctx: lib.vp_field_load(ctx, pb, gb, ctypes.byref(self.ptr)))
+        self.info = _lib.vp_field_info()
+        lib.vp_field_get_info(self.ptr, ctypes.byref(self.info))
+
+    def check(self, what, positive, cont):
+        lo, hi = ctypes.c_double(), ctypes.c_double()
+        t, w = self.text.encode("utf-8", "replace"), what.encode()
+        _call.quick(lambda ctx: lib.vp_field_check(ctx, self.ptr, t, w, positive, cont._ptr,
+                                                   ctypes.byref(lo), ctypes.byref(hi)))
+        return lo.value, hi.value
+
+    def __del__(self):
+        if getattr(self, "ptr", None) is not None and self.ptr.value:
+            lib.vp_field_destroy(self.ptr)
+            self.ptr = None
+
+
+def _split_grid(text):
+    """FILE.vdb:GRID as (FILE.vdb, GRID) (after the last '.vdb:'), else
+    (text, None), as the command line."""
+    k = text.lower().rfind(".vdb:")
+    if k < 0:
+        return text, None
+    if not text[k + 5:]:
+        raise ValueError("%r: give the grid's name after the colon, or no colon" % (text,))
+    return text[:k + 4], text[k + 5:]
+
+
+def _field_band(method, cp, rf, rf_mode, target_fraction):
+    """relax and jam with a radius field: the container's band for the
+    radii it makes (field_band of the command line)."""
+    fi = rf.info
+    k = fi.max / fi.min if fi.min > 0 else 8.0
+    k = min(max(k, 1.0), 8.0)
+    if method == "relax" and not target_fraction > 0 and fi.max > 0:
+        cp.particle_radius = cp.particle_radius * fi.max if rf_mode == 0 else fi.max
+        return
+    cp.particle_radius *= k
+    cp.space_per_particle /= k * k * k
+
+
+def _apply_mask(cont, mask, method, params, fit, load, threads, max_memory, progress):
+    """mask=: the container less the mask's inside (vp_container_subtract,
+    as the command line's apply_mask). mask: a Container, 'sphere:R',
+    'box:X,Y,Z', a mesh file or FILE.vdb[:GRID]. Returns the masked
+    Container (which keeps both alive), the mask's text and voxel."""
+    cp = _lib.vp_container_params()
+    lib.vp_container_params_init(ctypes.byref(cp))
+    getattr(lib, "vp_container_params_for_" + method)(ctypes.byref(cp), ctypes.byref(params))
+    r = cp.particle_radius
+    if not r > 0 and cp.particle_count and cp.space_per_particle > 0:
+        r = (cont.volume / (cp.particle_count * cp.space_per_particle)) ** (1.0 / 3.0)
+    need = r if fit == 0 else 0.0
+    if isinstance(mask, Container):
+        m, text = mask, mask.name
+    else:
+        if not isinstance(mask, (str, os.PathLike)):
+            raise TypeError("mask must be a Container, 'sphere:R', 'box:X,Y,Z' or a file name, "
+                            "not %r" % (mask,))
+        text = os.fsdecode(os.fspath(mask))
+        a = None if os.path.exists(text) else _container.parse_analytic(text)
+        if a is not None:
+            m = _container._analytic(a, text)
+        else:
+            path, grid = _split_grid(text)
+            if grid is not None:
+                cp.grid_name = grid.encode("utf-8")
+            cp.inside = _lib.INSIDE_MODES.get(load.get("inside", "auto"), 0)
+            if cont.info["voxel_size"] > 0:
+                cp.voxel_size = cont.info["voxel_size"]
+            if cp.voxel_size == 0 and need > 0:
+                cp.voxel_size = 1.05 * need / 3.0
+            if cp.voxel_size > 0 and 3.0 * cp.voxel_size < 1.05 * need:
+                cp.voxel_size = 1.05 * need / 3.0
+            m = _container._load(_arrays.path(path, "mask"), cp, os.path.basename(path), None,
+                                 threads, max_memory, progress)
+    out = ctypes.c_void_p()
+    try:
+        _call.quick(lambda ctx: lib.vp_container_subtract(ctx, cont._ptr, m._ptr,
+                                                          ctypes.byref(out)))
+    except BaseException:
+        lib.vp_container_destroy(out)
+        raise
+    masked = Container._wrap(out, cont.name, cont._inside, keep=(cont, m))
+    if need > 0 and masked.info["interior_band"] < need:
+        raise _errors.InvalidArgumentError(
+            "mask %s: its level set holds distances only %g outside it, and the particles "
+            "need %g; give a mask with a wider exterior band"
+            % (text, masked.info["interior_band"], need), "VP_ERR_INVALID_ARGUMENT")
+    return masked, text, m.info["voxel_size"]
+
+
 def container_params(method="lattice", **options):
     """The level-set parameters that pack() gives a mesh or .vdb container
     file for this job (the library's vp_container_params_for_<method> over
@@ -446,6 +573,11 @@ def pack(container, method="lattice", **options):
       overlap ("exact", "bbox") for solids;
     - relax: radius (a number or a distribution), count, target_fraction,
       tolerance, max_sweeps;
+    - fields and masks (docs/fields.md): mask (all methods: a Container,
+      'sphere:R', 'box:X,Y,Z', a mesh file or 'FILE.vdb[:GRID]');
+      radius_field ('FILE.vdb[:GRID]') with radius_field_mode ('scale',
+      the default, or 'absolute') for rsa, relax and jam; density_field
+      for rsa;
     - jam: count=N, or radius with target_fraction (default 0.64) for the
       number; radius (a number or a distribution) sets the radii's shape,
       their scale is the jamming point's (without radius: equal spheres);
@@ -466,6 +598,25 @@ def pack(container, method="lattice", **options):
         params.shape, params.shape_param = sid, shape_param
         params.mesh = mesh._ptr.value if mesh is not None else None
         shape_id = sid
+
+    # -- fields, before the container (a radius field sizes its band) -------
+    rf = _Field(given["radius_field"], "radius_field") if "radius_field" in given else None
+    df = _Field(given["density_field"], "density_field") if "density_field" in given else None
+    rf_mode = j["rf_mode"]
+    if rf is not None:
+        params.radius_field, params.radius_field_mode = rf.ptr.value, rf_mode
+        if rf_mode == 1:
+            if not rf.info.max > 0:
+                raise _errors.InvalidArgumentError(
+                    "%s: the radius field has no positive value (largest %g); radii must be "
+                    "positive" % (rf.text, rf.info.max), "VP_ERR_INVALID_ARGUMENT")
+            if method == "rsa":
+                for k in range(params.npasses):
+                    params.passes[k].radius = _size_dist(rf.info.max, "radius")
+            else:
+                params.radius = _size_dist(rf.info.max, "radius")
+    if df is not None:
+        params.density_field = df.ptr.value
 
     # -- the container ------------------------------------------------------
     load = {k: given[k] for k in _LOAD if k in given}
@@ -499,9 +650,18 @@ def pack(container, method="lattice", **options):
                 lib.vp_container_params_for_jam(ctypes.byref(cp), ctypes.byref(params))
             else:
                 lib.vp_container_params_for_relax(ctypes.byref(cp), ctypes.byref(params))
+            if rf is not None and method in ("relax", "jam"):
+                _field_band(method, cp, rf, rf_mode, getattr(params, "target_fraction", 0))
             cont = _container._load(_arrays.path(spec), cp, os.path.basename(spec),
                                     load.get("inside", "auto"), threads, max_memory, progress)
         cname = os.path.basename(spec) if "/" in spec else spec
+    mask_text, mask_voxel = None, 0.0
+    if "mask" in given:
+        cont, mask_text, mask_voxel = _apply_mask(cont, given["mask"], method, params, fit,
+                                                  load, threads, max_memory, progress)
+    rf_range = rf.check("radius field", 1, cont) if rf is not None else None
+    if df is not None:
+        df.check("density field", 0, cont)
     ci = cont._info
 
     if method == "lattice" and params.count:
@@ -625,6 +785,19 @@ def pack(container, method="lattice", **options):
         md["inside"] = cont._inside or "auto"
     if "iso" in load:
         md["iso"] = float(load["iso"])
+    # fields and masks, as the command line records them
+    if mask_text is not None:
+        md["mask"] = mask_text
+        r["mask"] = mask_text
+        if mask_voxel > 0:
+            md["mask_voxel_size"] = mask_voxel
+    if rf is not None:
+        md.update(radius_field=rf.text, radius_field_mode="absolute" if rf_mode else "scale")
+        r.update(radius_field=rf.text, radius_field_mode=md["radius_field_mode"],
+                 radius_field_min=rf_range[0], radius_field_max=rf_range[1])
+    if df is not None:
+        md["density_field"] = df.text
+        r["density_field"] = df.text
     if method == "lattice":
         md.update(lattice=label, radius=rep.radius)
     elif method == "rsa":

@@ -11,6 +11,7 @@
 #include "os/input.h"
 #include "os/subproc.h"
 #include "vdb/vdb_bridge.h"
+#include "vdb/vdb_field.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -39,6 +40,11 @@ static int ls_depth_map(const vp_container *c, vp_depth_map *out) {
     if (vpv_levelset_blocks(c->levelset, (size_t)1 << 26, &b, err, sizeof err) != VP_OK) return -1;
     return vp_depth_map_build(out, b.origin, b.block, b.voxel, b.dims, b.value,
                               c->info.interior_band, b.background);
+}
+
+/* The box of the level set's inside (fields must cover it). */
+static int ls_inside_box(const vp_container *c, double lo[3], double hi[3]) {
+    return vpv_levelset_inside_box(c->levelset, lo, hi);
 }
 
 /* True when the file starts with OpenVDB's magic number or ends in .vdb. */
@@ -101,6 +107,7 @@ static vp_result finish_levelset(vp_context *ctx, const char *path, vpv_levelset
     }
     (*out)->levelset = ls;
     (*out)->depth_map = ls_depth_map;
+    (*out)->inside_box = ls_inside_box;
     return VP_OK;
 }
 

@@ -29,6 +29,13 @@ void vp_container_params_for_rsa(vp_container_params *cp, const vp_rsa_params *r
         rmax = fmax(rmax, vp_size_dist_max(&rp->passes[i].radius));
         if (!rp->passes[i].maximal) count += rp->passes[i].count;
     }
+    /* a radius field: its largest value, or that times the passes' */
+    if (rp->radius_field) {
+        vp_field_info fi;
+        vp_field_get_info(rp->radius_field, &fi);
+        rmax = rp->radius_field_mode == VP_FIELD_ABSOLUTE ? fi.max : rmax * fi.max;
+        if (!(rmax > 0)) rmax = 0; /* (refused by the packer) */
+    }
     cp->particle_radius = rmax;
     cp->particle_count = count;
     cp->space_per_particle = 0;

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "cli/cli.h"
 
@@ -45,6 +46,8 @@ const char *VP_CHECK_HELP =
     "                          decided (default: the packing's, else auto)\n"
     "  --iso V                 a fog or density .vdb container: inside where the\n"
     "                          grid's value is >= V (default: the packing's)\n"
+    "  --mask M|none           the mask taken out of the container (pack --mask;\n"
+    "                          default: the file's mask metadata); none: no mask\n"
     "  --json                  print the report as JSON on stdout\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
@@ -62,8 +65,47 @@ static const char *meta_value(const char *json, const char *key) {
     return v + strlen(pat);
 }
 
+/* --mask M: M's inside taken out of container *c (as pack --mask does):
+ * analytic, a mesh (voxelized at the voxel pack recorded), or a .vdb level
+ * set, FILE.vdb[:GRID]. 0, or the exit status after one line. */
+static int check_mask(vp_context *ctx, const char *mask, double voxel, vp_container **c,
+                      vp_container **base, vp_container **mask_c) {
+    vp_container *m = NULL;
+    int an = vp_cli_analytic_container(ctx, mask, &m);
+    if (an == -2) return vp_cli_die(2, "check: --mask: %s", vp_context_message(ctx));
+    if (an < 0)
+        return vp_cli_die(2, "check: malformed analytic --mask '%s' (sphere:R or box:X,Y,Z)",
+                          mask);
+    if (an == 0) {
+        char path[4096];
+        const char *cut = NULL, *grid = NULL;
+        for (const char *q = mask; *q; q++)
+            if (!strncasecmp(q, ".vdb:", 5)) cut = q;
+        size_t n = cut ? (size_t)(cut + 4 - mask) : strlen(mask);
+        if (n >= sizeof path) return vp_cli_die(2, "check: --mask: the file name is too long");
+        memcpy(path, mask, n);
+        path[n] = 0;
+        if (cut && cut[5]) grid = cut + 5;
+        vp_container_params kp;
+        vp_container_params_init(&kp);
+        kp.voxel_size = voxel;
+        kp.grid_name = grid;
+        if (vp_container_load(ctx, path, &kp, &m) != VP_OK)
+            return vp_cli_die(1, "check: --mask: %s", vp_context_message(ctx));
+    }
+    *mask_c = m;
+    vp_container *cm = NULL;
+    if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK)
+        return vp_cli_die(1, "check: --mask %s: %s", mask, vp_context_message(ctx));
+    *base = *c; /* borrowed by cm: freed after it */
+    *c = cm;
+    return 0;
+}
+
 int vp_cli_check(int argc, char **argv) {
-    const char *file = NULL, *cont = NULL, *grid = NULL, *shape_file = NULL;
+    const char *file = NULL, *cont = NULL, *grid = NULL, *shape_file = NULL, *mask = NULL;
+    char mask_meta[4096] = "";
+    double mask_voxel = 0;
     int json = 0, quiet = 0, fit_set = 0, inside_set = 0, has_iso = 0;
     int margin_set = 0, gap_set = 0; /* else from the file's metadata */
     vp_inside_mode inside = VP_INSIDE_AUTO;
@@ -113,6 +155,9 @@ int vp_cli_check(int argc, char **argv) {
         } else if (!strcmp(a, "--shape")) {
             NEED();
             shape_file = v;
+        } else if (!strcmp(a, "--mask")) {
+            NEED();
+            mask = v;
         } else if (!strcmp(a, "--allow-open")) {
             return vp_cli_die(2, "check: --allow-open was removed in 0.2.0: an open mesh now gets "
                                  "the inside its winding number gives (--inside auto, the "
@@ -147,7 +192,7 @@ int vp_cli_check(int argc, char **argv) {
     if (vp_context_create(&ctx) != VP_OK) return vp_cli_die(1, "out of memory");
     int status = 1;
     vp_particles *p = NULL;
-    vp_container *c = NULL;
+    vp_container *c = NULL, *base = NULL, *mask_c = NULL;
     vp_mesh_shape *mesh = NULL;
     char *desc = NULL;
     if (vp_read_points(ctx, file, &p) != VP_OK) {
@@ -190,6 +235,14 @@ int vp_cli_check(int argc, char **argv) {
         if (gp && !gap_set) {
             double x = strtod(gp, NULL);
             if (x >= 0 && isfinite(x)) cp.gap = x;
+        }
+        /* pack --mask: the mask as given, and the voxel of a mesh mask */
+        const char *mk = meta_value(desc, "mask"), *mv = meta_value(desc, "mask_voxel_size");
+        if (mk && *mk == '"') sscanf(mk + 1, "%4095[^\"]", mask_meta);
+        if (!mask && mask_meta[0]) mask = mask_meta;
+        if (mv) {
+            double x = strtod(mv, NULL);
+            if (x > 0 && isfinite(x)) mask_voxel = x;
         }
         const char *vs = meta_value(desc, "voxel_size");
         if (vs && !(voxel > 0)) {
@@ -242,6 +295,10 @@ int vp_cli_check(int argc, char **argv) {
         vp_container_get_info(c, &ci);
         if (!quiet) vp_cli_warn_container(&ci);
     }
+    if (mask && strcmp(mask, "none") != 0 &&
+        (status = check_mask(ctx, mask, mask_voxel, &c, &base, &mask_c)) != 0)
+        goto done;
+    status = 1;
     vp_check_report rep;
     if (vp_check_particles(ctx, c, p, &cp, &rep) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
@@ -254,6 +311,10 @@ int vp_cli_check(int argc, char **argv) {
         vp_cli_json_string(stdout, file);
         printf(",\"container\":");
         vp_cli_json_string(stdout, cont);
+        if (mask && strcmp(mask, "none") != 0) {
+            printf(",\"mask\":");
+            vp_cli_json_string(stdout, mask);
+        }
         printf(",\"margin\":%.17g,\"gap\":%.17g", cp.margin, cp.gap);
         printf(",\"fit\":\"%s\",\"shape\":\"%s\",\"count\":%zu,\"overlapping_pairs\":%zu,"
                "\"max_overlap\":%.17g,\"max_overlap_world\":%.17g,\"overlap_tolerance\":%.17g,"
@@ -272,6 +333,7 @@ int vp_cli_check(int argc, char **argv) {
         char what[96];
         vp_cli_shape_count(what, sizeof what, rep.count, p->shape);
         printf("vdbpack check %s: %s against %s (fit %s)\n", file, what, cont, fit);
+        if (mask && strcmp(mask, "none") != 0) printf("  less the mask %s\n", mask);
         if (cp.margin > 0 || cp.gap > 0)
             printf("  kept apart: margin %.6g from the wall, gap %.6g between surfaces\n",
                    cp.margin, cp.gap);
@@ -313,6 +375,8 @@ done:
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
+    vp_container_destroy(base); /* (after c, which borrows it and the mask) */
+    vp_container_destroy(mask_c);
     vp_context_destroy(ctx);
     return status;
 }

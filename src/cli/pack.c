@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -20,6 +21,28 @@
 #define VP_CLI_RSA_FRACTION 0.3
 /* exit status of a run that packed fewer particles than asked for */
 #define VP_CLI_EXIT_SHORT 4
+
+/* --- fields and masks (docs/fields.md) -------------------------------------
+ * --mask FILE[:GRID] (a mesh, a .vdb level set, sphere:R or box:X,Y,Z: its
+ * inside is taken out of the container, for every method), --radius-field
+ * FILE.vdb[:GRID] with --radius-field-mode scale|absolute and
+ * --density-field FILE.vdb[:GRID] (rsa). */
+typedef struct field_arg {
+    const char *text;       /* as given, or NULL */
+    char path[4096];        /* the file (text without :GRID) */
+    const char *grid;       /* points into text after ".vdb:", or NULL */
+} field_arg;
+
+typedef struct pack_fields {
+    field_arg mask, radius, density;
+    vp_field_mode mode;
+    int mode_set;
+    vp_field *radius_field, *density_field; /* loaded; owned by vp_cli_pack */
+    double rmin, rmax;      /* the radius field's range over the container */
+    double mask_voxel;      /* a mesh or level-set mask's voxel (metadata, for check) */
+    vp_container *base, *mask_c; /* with --mask: the container and the mask, which
+                                    the masked container borrows (freed after it) */
+} pack_fields;
 
 typedef struct pack_opts {
     const char *container;
@@ -72,6 +95,7 @@ typedef struct pack_opts {
     double gap;             /* --gap: distance kept between surfaces (rsa) */
     int rsa_count_radius;   /* rsa --count N without --radius: the radius is
                                the one N fill target_fraction with */
+    pack_fields fields;     /* --mask, --radius-field, --density-field */
 } pack_opts;
 
 /* --- progress (stderr) ------------------------------------------------------
@@ -302,7 +326,11 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         }
         return vp_cli_parse_sizes("--radius", o->radius_text, &o->sizes);
     }
-    /* relax */
+    /* relax (with an absolute radius field, the field gives the radii) */
+    if (!have_radius && o->fields.radius.text && o->fields.mode == VP_FIELD_ABSOLUTE && have_count) {
+        vp_size_dist_constant(&o->sizes, 1.0);
+        return 0;
+    }
     if (!have_radius || !have_count)
         return vp_cli_die(2, "pack: --method relax needs --radius R (or a distribution) and "
                              "--count N");
@@ -319,7 +347,8 @@ enum {
     OPT_OFFSETS, OPT_ROTATE, OPT_ROTATIONS, OPT_SEED, OPT_VOXEL_SIZE, OPT_ALLOW_OPEN,
     OPT_INSIDE, OPT_ISO, OPT_GRID, OPT_PRECISION, OPT_SAVE_CONTAINER, OPT_SHAPE_OUT,
     OPT_PREVIEW, OPT_THREADS, OPT_MAX_MEMORY, OPT_JSON, OPT_ALLOW_SHORT, OPT_MARGIN, OPT_GAP,
-    OPT_PROGRESS
+    OPT_PROGRESS, OPT_MASK, OPT_RADIUS_FIELD, OPT_RADIUS_FIELD_MODE, OPT_DENSITY_FIELD,
+    OPT_LAST
 };
 
 enum { M_LATTICE = 1, M_RSA = 2, M_RELAX = 4, M_JAM = 8 };
@@ -362,6 +391,10 @@ static const struct option PACK_OPTIONS[] = {
     {"margin", required_argument, NULL, OPT_MARGIN},
     {"gap", required_argument, NULL, OPT_GAP},
     {"progress", no_argument, NULL, OPT_PROGRESS},
+    {"mask", required_argument, NULL, OPT_MASK},
+    {"radius-field", required_argument, NULL, OPT_RADIUS_FIELD},
+    {"radius-field-mode", required_argument, NULL, OPT_RADIUS_FIELD_MODE},
+    {"density-field", required_argument, NULL, OPT_DENSITY_FIELD},
     {NULL, 0, NULL, 0}};
 
 /* The options that go with some methods only; the others go with all. */
@@ -372,7 +405,10 @@ static const struct {
     {OPT_LATTICE, M_LATTICE}, {OPT_OFFSETS, M_LATTICE}, {OPT_ROTATE, M_LATTICE},
     {OPT_ROTATIONS, M_LATTICE}, {OPT_PASS, M_RSA}, {OPT_RETRIES, M_RSA}, {OPT_GROW, M_RSA},
     {OPT_ORIENT, M_RSA}, {OPT_OVERLAP, M_RSA}, {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
-    {OPT_TOLERANCE, M_RELAX | M_JAM}, {OPT_MARGIN, M_RSA | M_RELAX | M_JAM}, {OPT_GAP, M_RSA | M_RELAX | M_JAM},
+    {OPT_TOLERANCE, M_RELAX | M_JAM},
+    {OPT_MARGIN, M_RSA | M_RELAX | M_JAM}, {OPT_GAP, M_RSA | M_RELAX | M_JAM},
+    {OPT_RADIUS_FIELD, M_RSA | M_RELAX | M_JAM}, {OPT_RADIUS_FIELD_MODE, M_RSA | M_RELAX | M_JAM},
+    {OPT_DENSITY_FIELD, M_RSA},
 };
 
 static const char *option_name(int id) {
@@ -454,6 +490,10 @@ static int option_error(int c, const char *arg) {
     }
     return vp_cli_die(2, "pack: unknown option '%s' (see vdbpack pack --help)", arg);
 }
+
+static int fields_option(int c, const char *v, pack_fields *f);
+static int check_field_options(pack_opts *o, int have_radius, const unsigned char *given);
+static void container_params(const pack_opts *o, vp_container_params *cp);
 
 /* One option (id c, value v, NULL for flags) into o. */
 static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int *have_count) {
@@ -603,6 +643,10 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
     case OPT_QUIET: o->quiet = 1; break;
     case OPT_ALLOW_SHORT: o->allow_short = 1; break;
     case OPT_PROGRESS: o->progress = 1; break;
+    case OPT_MASK:
+    case OPT_RADIUS_FIELD:
+    case OPT_DENSITY_FIELD:
+    case OPT_RADIUS_FIELD_MODE: return fields_option(c, v, &o->fields);
     case OPT_MARGIN:
     case OPT_GAP: {
         double *x = c == OPT_MARGIN ? &o->margin : &o->gap;
@@ -624,6 +668,30 @@ static int take_container(pack_opts *o, const char *a) {
     return 0;
 }
 
+/* getopt_long refuses an abbreviation that several long options start
+ * with; where all of them start with the shortest (--rad: --radius,
+ * --radius-field, --radius-field-mode) it means that one, as it did before
+ * the longer ones came. A malloc'd "--radius[=VALUE]", or NULL: arg as is. */
+static char *shortest_prefix_option(const char *arg) {
+    if (strncmp(arg, "--", 2) != 0 || !arg[2]) return NULL;
+    size_t n = strcspn(arg + 2, "=");
+    const struct option *best = NULL;
+    for (const struct option *lo = PACK_OPTIONS; lo->name; lo++) {
+        if (strncmp(lo->name, arg + 2, n) != 0) continue;
+        if (strlen(lo->name) == n) return NULL; /* the option itself */
+        if (!best || strlen(lo->name) < strlen(best->name)) best = lo;
+    }
+    if (!best) return NULL;
+    size_t bl = strlen(best->name);
+    for (const struct option *lo = PACK_OPTIONS; lo->name; lo++)
+        if (!strncmp(lo->name, arg + 2, n) && strncmp(lo->name, best->name, bl) != 0)
+            return NULL; /* ambiguous: getopt_long says so */
+    size_t k = 2 + bl + strlen(arg + 2 + n) + 1;
+    char *s = malloc(k);
+    if (s) snprintf(s, k, "--%s%s", best->name, arg + 2 + n);
+    return s;
+}
+
 static int parse_pack(int argc, char **argv, pack_opts *o) {
     memset(o, 0, sizeof *o);
     o->method = "lattice";
@@ -635,7 +703,7 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     o->seed = 1;
     int have_radius = 0, have_count = 0;
     vp_cli_seen seen = {0};
-    unsigned char given[OPT_PROGRESS - OPT_FORMAT + 1] = {0};
+    unsigned char given[OPT_LAST - OPT_FORMAT] = {0};
     /* getopt_long on a copy from "pack" on: argv itself (the command line
      * the file records) stays as given. "-" first: arguments in order, the
      * container as option 1; ":" a missing value as ':' */
@@ -644,6 +712,13 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     if (!args) return vp_cli_die(1, "out of memory");
     memcpy(args, argv + 1, (size_t)n * sizeof *args);
     args[n] = NULL;
+    char **owned = calloc((size_t)n + 1, sizeof *owned);
+    if (!owned) {
+        free(args);
+        return vp_cli_die(1, "out of memory");
+    }
+    for (int i = 0; i < n && strcmp(args[i], "--") != 0; i++)
+        if ((owned[i] = shortest_prefix_option(args[i])) != NULL) args[i] = owned[i];
     optind = 0; /* a full re-initialisation (glibc): parse_pack may run more than once */
     opterr = 0;
     int rc = 0, c, idx;
@@ -669,6 +744,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     }
     for (int i = optind; !rc && i < n; i++) rc = take_container(o, args[i]); /* after -- */
     free(args);
+    for (int i = 0; i < n; i++) free(owned[i]);
+    free(owned);
     if (rc) return rc;
     if (!o->container || !*o->container)
         return vp_cli_die(2, "pack: no container given (see vdbpack pack --help)");
@@ -685,11 +762,15 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
      * files read (the container, a --shape mesh): a TD would lose one */
     const char *outs[4] = {o->output, o->save_container, o->shape_out, o->preview};
     const char *names[4] = {"-o", "--save-container", "--shape-out", "--preview"};
-    const char *ins[2] = {o->container, o->shape_file};
-    const char *inames[2] = {"the container", "the --shape mesh"};
+    const char *ins[5] = {o->container, o->shape_file,
+                          o->fields.mask.text ? o->fields.mask.path : NULL,
+                          o->fields.radius.text ? o->fields.radius.path : NULL,
+                          o->fields.density.text ? o->fields.density.path : NULL};
+    const char *inames[5] = {"the container", "the --shape mesh", "the --mask",
+                             "the --radius-field", "the --density-field"};
     for (int i = 0; i < 4; i++) {
         if (!outs[i]) continue;
-        for (int k = 0; k < 2; k++)
+        for (int k = 0; k < 5; k++)
             if (ins[k] && vp_cli_same_file(outs[i], ins[k]))
                 return vp_cli_die(2, "pack: %s %s is %s itself: writing would replace it",
                                   names[i], outs[i], inames[k]);
@@ -701,6 +782,8 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     rc = check_option_methods(o, given);
     if (rc) return rc;
     rc = check_method_options(o, have_radius, have_count);
+    if (rc) return rc;
+    rc = check_field_options(o, have_radius, given);
     if (rc) return rc;
     return 0;
 }
@@ -815,6 +898,8 @@ static double smallest_radius(const pack_opts *o, const vp_container_info *ci) {
     if (!strcmp(o->method, "rsa")) {
         double m = HUGE_VAL;
         for (int i = 0; i < o->npasses; i++) m = fmin(m, vp_size_dist_min(&o->passes[i].radius));
+        if (o->fields.radius_field && o->fields.rmin > 0) /* (check_fields ran) */
+            m = o->fields.mode == VP_FIELD_ABSOLUTE ? o->fields.rmin : m * o->fields.rmin;
         return isfinite(m) ? m : 0.0;
     }
     if (!strcmp(o->method, "jam")) return 0.0; /* the jamming point's */
@@ -850,6 +935,213 @@ static int vdb_radius_check(const pack_opts *o, const vp_container_info *ci, dou
                       least * VP_POSITION_ERROR_LIMIT, VP_POSITION_ERROR_LIMIT, least);
 }
 
+/* --- fields and masks: options, loading, checks (docs/fields.md) ---------- */
+
+/* FILE.vdb:GRID into the file and the grid's name (after the last ".vdb:",
+ * so that a path holding colons stays whole); other names whole. */
+static int split_field(const char *opt, const char *v, field_arg *a) {
+    a->text = v;
+    a->grid = NULL;
+    const char *cut = NULL;
+    for (const char *q = v; *q; q++)
+        if (!strncasecmp(q, ".vdb:", 5)) cut = q;
+    size_t n = cut ? (size_t)(cut + 4 - v) : strlen(v);
+    if (!n) return vp_cli_die(2, "pack: %s needs a file name (FILE.vdb[:GRID])", opt);
+    if (n >= sizeof a->path) return vp_cli_die(2, "pack: %s: the file name is too long", opt);
+    memcpy(a->path, v, n);
+    a->path[n] = 0;
+    if (cut) {
+        a->grid = cut + 5;
+        if (!*a->grid)
+            return vp_cli_die(2, "pack: %s '%s': give the grid's name after the colon, or no "
+                                 "colon (the first float grid)", opt, v);
+    }
+    return 0;
+}
+
+static int fields_option(int c, const char *v, pack_fields *f) {
+    switch (c) {
+    case OPT_MASK: return split_field("--mask", v, &f->mask);
+    case OPT_RADIUS_FIELD: return split_field("--radius-field", v, &f->radius);
+    case OPT_DENSITY_FIELD: return split_field("--density-field", v, &f->density);
+    case OPT_RADIUS_FIELD_MODE:
+        if (vp_field_mode_parse(v, &f->mode) != 0)
+            return vp_cli_die(2, "pack: unknown --radius-field-mode '%s' (scale, absolute)", v);
+        f->mode_set = 1;
+        return 0;
+    default: return 0;
+    }
+}
+
+/* The fields' options against the rest (after check_method_options). */
+static int check_field_options(pack_opts *o, int have_radius, const unsigned char *given) {
+    pack_fields *f = &o->fields;
+    if (f->mode_set && !f->radius.text)
+        return vp_cli_die(2, "pack: --radius-field-mode goes with --radius-field");
+    if (!f->radius.text && !f->density.text) return 0;
+    if (o->shape != VP_SHAPE_SPHERE)
+        return vp_cli_die(2, "pack: --radius-field and --density-field pack spheres in this "
+                             "version, not --shape %s",
+                          o->shape_file ? o->shape_file : vp_shape_name(o->shape));
+    for (int i = 0; i < o->npasses; i++)
+        if (o->passes[i].grow)
+            return vp_cli_die(2, "pack: grow does not go with --radius-field or --density-field");
+    if (f->radius.text && f->mode == VP_FIELD_ABSOLUTE) {
+        if (have_radius)
+            return vp_cli_die(2, "pack: --radius-field-mode absolute: the field is the radius; "
+                                 "leave out --radius (scale, the default, multiplies it)");
+        if (given[OPT_TARGET_FRACTION - OPT_FORMAT] && !strcmp(o->method, "rsa"))
+            return vp_cli_die(2, "pack: --radius-field-mode absolute: the field is the radius; "
+                                 "--target-fraction does not go with it");
+        /* the passes' radius is not used: the field's largest value sizes
+         * the container's band (set once the field is read) */
+        if (!strcmp(o->method, "rsa")) {
+            o->rsa_count_radius = 0;
+            o->target_fraction = 0;
+        }
+        for (int i = 0; i < o->npasses; i++) vp_size_dist_constant(&o->passes[i].radius, 1.0);
+    }
+    return 0;
+}
+
+/* Reads the radius and density fields (before the container: the radius
+ * field's largest value sizes its level set). */
+static int load_fields(vp_context *ctx, pack_opts *o) {
+    pack_fields *f = &o->fields;
+    if (f->radius.text) {
+        if (vp_field_load(ctx, f->radius.path, f->radius.grid, &f->radius_field) != VP_OK)
+            return lib_error(ctx);
+        if (f->mode == VP_FIELD_ABSOLUTE) {
+            vp_field_info fi;
+            vp_field_get_info(f->radius_field, &fi);
+            if (!(fi.max > 0))
+                return vp_cli_die(1, "%s: the radius field has no positive value (largest %g); "
+                                     "radii must be positive", f->radius.path, fi.max);
+            for (int i = 0; i < o->npasses; i++)
+                vp_size_dist_constant(&o->passes[i].radius, fi.max);
+            vp_size_dist_constant(&o->sizes, fi.max); /* relax, jam: replaced by the field */
+        }
+    }
+    if (f->density.text &&
+        vp_field_load(ctx, f->density.path, f->density.grid, &f->density_field) != VP_OK)
+        return lib_error(ctx);
+    return 0;
+}
+
+/* --mask: the container less the mask's inside. *c becomes the masked
+ * container; o->fields.base keeps the old one (for --save-container) and
+ * mask_c the mask, both freed after *c. */
+static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c) {
+    pack_fields *f = &o->fields;
+    if (!f->mask.text) return 0;
+    vp_container *m = NULL;
+    int an = vp_cli_analytic_container(ctx, f->mask.text, &m);
+    if (an == -2) return vp_cli_die(2, "pack: --mask: %s", vp_context_message(ctx));
+    if (an < 0)
+        return vp_cli_die(2, "pack: malformed analytic --mask '%s' (sphere:R or box:X,Y,Z with "
+                             "positive sizes)", f->mask.text);
+    vp_container_info ci;
+    vp_container_get_info(*c, &ci);
+    /* the distances a packer needs outside the mask: the largest radius
+     * (fit inside) and the margin */
+    double need = o->margin;
+    vp_container_params cp;
+    container_params(o, &cp);
+    double r = cp.particle_radius; /* else, from the count (relax, jam: at the start) */
+    if (!(r > 0) && cp.particle_count && cp.space_per_particle > 0)
+        r = cbrt(ci.volume / ((double)cp.particle_count * cp.space_per_particle));
+    if (o->fit == VP_FIT_INSIDE) need += r;
+    if (an == 0) {
+        cp.grid_name = f->mask.grid;
+        cp.has_iso = 0;
+        /* the container's voxel, coarsened where the band of 3 voxels
+         * outside the mask would not reach `need` */
+        if (ci.voxel_size > 0) cp.voxel_size = ci.voxel_size;
+        if (cp.voxel_size == 0 && need > 0) /* (automatic: half the radius or less) */
+            cp.voxel_size = 1.05 * need / 3.0;
+        if (cp.voxel_size > 0 && 3.0 * cp.voxel_size < 1.05 * need)
+            cp.voxel_size = 1.05 * need / 3.0;
+        if (vp_container_load(ctx, f->mask.path, &cp, &m) != VP_OK) return lib_error(ctx);
+    }
+    vp_container_info mki;
+    vp_container_get_info(m, &mki);
+    f->mask_voxel = mki.voxel_size;
+    f->mask_c = m;
+    vp_container *cm = NULL;
+    if (vp_container_subtract(ctx, *c, m, &cm) != VP_OK)
+        return vp_cli_die(1, "pack: --mask %s: %s", f->mask.text, vp_context_message(ctx));
+    f->base = *c;
+    *c = cm;
+    vp_container_info mi;
+    vp_container_get_info(cm, &mi);
+    if (need > 0 && mi.interior_band < need)
+        return vp_cli_die(1, "pack: --mask %s: its level set holds distances only %g outside "
+                             "it, and the particles need %g (radius and margin); give a mask "
+                             "with a wider exterior band", f->mask.text, mi.interior_band, need);
+    return 0;
+}
+
+/* The fields against the container they drive (its inside covered,
+ * radii positive, a density not negative), each named by its file. */
+static int check_fields(vp_context *ctx, pack_opts *o, const vp_container *c) {
+    pack_fields *f = &o->fields;
+    if (f->radius_field &&
+        vp_field_check(ctx, f->radius_field, f->radius.text, "radius field", 1, c, &f->rmin,
+                       &f->rmax) != VP_OK)
+        return lib_error(ctx);
+    if (f->density_field &&
+        vp_field_check(ctx, f->density_field, f->density.text, "density field", 0, c, NULL,
+                       NULL) != VP_OK)
+        return lib_error(ctx);
+    return 0;
+}
+
+/* relax and jam with a radius field: radii vary by up to the field's
+ * largest over its smallest value (capped at 8: a field that is 0 or
+ * negative somewhere is refused where it covers the container), so the
+ * container's band must reach that much deeper. */
+static void field_band(const pack_opts *o, vp_container_params *cp) {
+    if (!o->fields.radius_field) return;
+    vp_field_info fi;
+    vp_field_get_info(o->fields.radius_field, &fi);
+    double k = fi.min > 0 ? fi.max / fi.min : 8.0;
+    if (!(k >= 1)) k = 1;
+    if (k > 8) k = 8;
+    if (!strcmp(o->method, "relax") && !(o->target_fraction > 0) && fi.max > 0) {
+        /* radii as the field makes them: times it, or it */
+        cp->particle_radius = o->fields.mode == VP_FIELD_SCALE ? cp->particle_radius * fi.max
+                                                               : fi.max;
+        return;
+    }
+    cp->particle_radius *= k;
+    cp->space_per_particle /= k * k * k;
+}
+
+/* The fields in the summary: one line each. */
+static void summary_fields(const pack_opts *o) {
+    const pack_fields *f = &o->fields;
+    if (f->mask.text) printf("  mask: %s (no particle inside it)\n", f->mask.text);
+    if (f->radius.text)
+        printf("  radius field: %s (%s), %.6g to %.6g over the container\n", f->radius.text,
+               vp_field_mode_name(f->mode), f->rmin, f->rmax);
+    if (f->density.text) printf("  density field: %s\n", f->density.text);
+}
+
+/* The fields in --json (rsa). */
+static void json_fields(const pack_opts *o) {
+    const pack_fields *f = &o->fields;
+    if (f->radius.text) {
+        printf(",\"radius_field\":");
+        vp_cli_json_string(stdout, f->radius.text);
+        printf(",\"radius_field_mode\":\"%s\",\"radius_field_min\":%.17g,"
+               "\"radius_field_max\":%.17g", vp_field_mode_name(f->mode), f->rmin, f->rmax);
+    }
+    if (f->density.text) {
+        printf(",\"density_field\":");
+        vp_cli_json_string(stdout, f->density.text);
+    }
+}
+
 /* The library's parameters of the method's job, from the options. */
 static void lattice_params(const pack_opts *o, vp_lattice_params *lp) {
     vp_lattice_params_init(lp);
@@ -878,6 +1170,9 @@ static void rsa_params(const pack_opts *o, vp_rsa_params *rp) {
     rp->seed = o->seed;
     rp->margin = o->margin;
     rp->gap = o->gap;
+    rp->radius_field = o->fields.radius_field;
+    rp->radius_field_mode = o->fields.mode;
+    rp->density_field = o->fields.density_field;
 }
 
 static void relax_params(const pack_opts *o, vp_relax_params *xp) {
@@ -890,6 +1185,8 @@ static void relax_params(const pack_opts *o, vp_relax_params *xp) {
     xp->seed = o->seed;
     xp->margin = o->margin;
     xp->gap = o->gap;
+    xp->radius_field = o->fields.radius_field;
+    xp->radius_field_mode = o->fields.mode;
 }
 
 static void jam_params(const pack_opts *o, vp_jam_params *jp) {
@@ -902,6 +1199,8 @@ static void jam_params(const pack_opts *o, vp_jam_params *jp) {
     jp->seed = o->seed;
     jp->margin = o->margin;
     jp->gap = o->gap;
+    jp->radius_field = o->fields.radius_field;
+    jp->radius_field_mode = o->fields.mode;
 }
 
 /* What loading a mesh or .vdb container needs to know of the job. */
@@ -929,10 +1228,12 @@ static void container_params(const pack_opts *o, vp_container_params *cp) {
         vp_jam_params jp;
         jam_params(o, &jp);
         vp_container_params_for_jam(cp, &jp);
+        field_band(o, cp);
     } else {
         vp_relax_params xp;
         relax_params(o, &xp);
         vp_container_params_for_relax(cp, &xp);
+        field_band(o, cp);
     }
 }
 
@@ -1023,6 +1324,10 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
     vp_cli_json_string(stdout, o->container);
     printf(",\"container_kind\":\"%s\",\"container_volume\":%.17g", kind_name(ci->kind),
            ci->volume);
+    if (o->fields.mask.text) {
+        printf(",\"mask\":");
+        vp_cli_json_string(stdout, o->fields.mask.text);
+    }
     printf(",\"voxel_size\":%.17g,\"voxel_reason\":", ci->voxel_size);
     vp_cli_json_string(stdout, ci->voxel_reason);
     printf(",\"grid\":");
@@ -1074,6 +1379,7 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
         if (o->rsa_count_radius)
             printf(",\"target_fraction\":%.17g", o->target_fraction);
         printf(",\"margin\":%.17g,\"gap\":%.17g", o->margin, o->gap);
+        json_fields(o);
         printf(",\"passes\":[");
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
             const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
@@ -1103,6 +1409,7 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                "\"max_overlap\":%.17g", x->sweeps, x->radius_scale, x->initial_fraction,
                x->max_overlap);
     }
+    if (strcmp(o->method, "rsa") != 0) json_fields(o); /* (rsa: with its passes) */
     printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
            (unsigned long long)o->seed, threads, rr->pack_seconds, seconds);
     vp_cli_json_string(stdout, o->output);
@@ -1140,6 +1447,7 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
     else
         printf("  container: analytic, volume %.6g\n", ci->volume);
     if (ci->voxel_size > 0) printf("  voxel size %.6g: %s\n", ci->voxel_size, ci->voxel_reason);
+    summary_fields(o);
     if (!strcmp(o->method, "lattice")) {
         const vp_lattice_report *l = &rr->lat;
         printf("  placement: %d offsets tried over %d orientation%s", l->offsets_tried,
@@ -1170,6 +1478,10 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             printf("  %s: radius %s, placed %zu", p->group_names[i], sz, pr->placed);
             if (o->passes[i].maximal && pr->stop == VP_RSA_STOP_MAXIMAL)
                 printf(" (maximal: no room left)");
+            else if (o->passes[i].maximal && (o->fields.radius_field || o->fields.density_field))
+                printf(" (with a field, count=max ends after %d failed tries in a row, see "
+                       "docs/fields.md)",
+                       o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (o->passes[i].maximal && o->shape != VP_SHAPE_SPHERE)
                 printf(" (maximal mode for solids: stopped by %d failed tries in a row, see "
                        "docs/rsa.md)",
@@ -1281,6 +1593,8 @@ int vp_cli_pack(int argc, char **argv) {
         }
         o.mesh = mesh;
     }
+    if ((status = load_fields(ctx, &o)) != 0) goto done;
+    status = 1;
     int an = vp_cli_analytic_container(ctx, o.container, &c);
     if (an == -2) {
         status = vp_cli_die(2, "pack: %s", vp_context_message(ctx));
@@ -1304,6 +1618,9 @@ int vp_cli_pack(int argc, char **argv) {
         goto done;
     }
 
+    if ((status = apply_mask(ctx, &o, &c)) != 0) goto done;
+    if ((status = check_fields(ctx, &o, c)) != 0) goto done;
+    status = 1;
     vp_container_info ci;
     vp_container_get_info(c, &ci);
     if (!o.quiet) vp_cli_warn_container(&ci);
@@ -1352,7 +1669,8 @@ int vp_cli_pack(int argc, char **argv) {
     double fraction = ci.volume > 0 ? vp_particles_volume(p) / ci.volume : 0.0;
 
     if (o.save_container) {
-        if (vp_container_save(ctx, c, o.save_container) != VP_OK) {
+        if (vp_container_save(ctx, o.fields.base ? o.fields.base : c, o.save_container) !=
+            VP_OK) {
             status = lib_error(ctx);
             goto done;
         }
@@ -1396,6 +1714,17 @@ int vp_cli_pack(int argc, char **argv) {
     if (ci.kind == VP_CONTAINER_MESH)
         meta[nmeta++] = (vp_meta){"inside", VP_META_STRING, vp_inside_name(o.inside), 0, 0};
     if (o.has_iso) meta[nmeta++] = (vp_meta){"iso", VP_META_DOUBLE, NULL, 0, o.iso};
+    if (o.fields.mask.text)
+        meta[nmeta++] = (vp_meta){"mask", VP_META_STRING, o.fields.mask.text, 0, 0};
+    if (o.fields.mask_voxel > 0)
+        meta[nmeta++] = (vp_meta){"mask_voxel_size", VP_META_DOUBLE, NULL, 0, o.fields.mask_voxel};
+    if (o.fields.radius.text) {
+        meta[nmeta++] = (vp_meta){"radius_field", VP_META_STRING, o.fields.radius.text, 0, 0};
+        meta[nmeta++] = (vp_meta){"radius_field_mode", VP_META_STRING,
+                                  vp_field_mode_name(o.fields.mode), 0, 0};
+    }
+    if (o.fields.density.text)
+        meta[nmeta++] = (vp_meta){"density_field", VP_META_STRING, o.fields.density.text, 0, 0};
     if (!strcmp(o.method, "lattice")) {
         meta[nmeta++] = (vp_meta){"lattice", VP_META_STRING, lattice_label(&o), 0, 0};
         meta[nmeta++] = (vp_meta){"radius", VP_META_DOUBLE, NULL, 0, rr.lat.radius};
@@ -1501,6 +1830,10 @@ done:
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
     vp_container_destroy(c);
+    vp_container_destroy(o.fields.base); /* (after c, which borrows them) */
+    vp_container_destroy(o.fields.mask_c);
+    vp_field_destroy(o.fields.radius_field);
+    vp_field_destroy(o.fields.density_field);
     vp_context_destroy(ctx);
     return status;
 }

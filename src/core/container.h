@@ -18,6 +18,10 @@ struct vp_container {
      * by the caller). Returns 0, or -1 when there is none (the caller then
      * samples everything). */
     int (*depth_map)(const struct vp_container *c, vp_depth_map *out);
+    /* Optional (NULL: the bounds in info): the box of the inside, tighter
+     * than info's bounds for a level set (whose active voxels reach past
+     * the surface). Returns 0, or -1 when unknown. */
+    int (*inside_box)(const struct vp_container *c, double lo[3], double hi[3]);
 };
 
 /* Wraps ops/user into a new container with the given info (copied).

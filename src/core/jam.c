@@ -32,6 +32,7 @@
  * order, and the chunks' sums are added in chunk order. */
 #include "core/container.h"
 #include "core/context.h"
+#include "core/field.h"
 #include "core/geom.h"
 #include "core/parallel.h"
 #include "core/rng.h"
@@ -979,6 +980,9 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         goto done;
     }
     res = place_random(ctx, &s, P);
+    if (res == VP_OK && P->radius_field) /* radii from a field at the starting centres */
+        res = vp_field_radii(ctx, c, P->radius_field, P->radius_field_mode, s.x, 4, s.x + 3, 4,
+                             n, 1, NULL, &s.r0max);
     if (res != VP_OK) goto done;
     double mean_r0 = 0;
     for (size_t i = 0; i < n; i++) mean_r0 += R0(&s, i);

@@ -29,6 +29,7 @@
 #include "core/geom.h"
 #include "core/parallel.h"
 #include "core/rng.h"
+#include "core/rsa_field.h"
 #include "core/rsa_top.h"
 #include "core/sgrid.h"
 #include "core/mesh_shape.h"
@@ -1744,6 +1745,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     if ((params->margin > 0 || params->gap > 0) && params->shape != VP_SHAPE_SPHERE)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: a margin or gap packs spheres in this version");
+    if (params->radius_field || params->density_field) /* one radius per pass no more */
+        return vp_rsa_fields_pack(ctx, c, params, out, report);
     if (params->shape != VP_SHAPE_SPHERE && params->overlap == VP_OVERLAP_BBOX &&
         params->orient == VP_ORIENT_RANDOM)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
