@@ -28,13 +28,17 @@ METHODS = ("lattice", "rsa", "relax", "jam")
 _BY_METHOD = {
     "lattice": ("radius", "count", "lattice", "offsets", "rotate", "rotations"),
     "rsa": ("radius", "count", "passes", "retries", "grow", "orient", "overlap",
-            "radius_field", "radius_field_mode", "density_field"),
+            "radius_field", "radius_field_mode", "density_field", "target_fraction", "margin",
+            "gap"),
     "relax": ("radius", "count", "target_fraction", "tolerance", "max_sweeps", "radius_field",
-              "radius_field_mode"),
+              "radius_field_mode", "margin", "gap"),
     "jam": ("radius", "count", "target_fraction", "tolerance", "radius_field",
-            "radius_field_mode"),
+            "radius_field_mode", "margin", "gap"),
 }
 _COMMON = ("shape", "fit", "seed", "threads", "max_memory", "progress", "mask")
+# rsa count=N without radius: the radius at which N fill this fraction (the
+# command line's --target-fraction default for rsa)
+RSA_COUNT_FRACTION = 0.3
 _FIELD_MODES = {"scale": 0, "absolute": 1}
 _LOAD = ("voxel_size", "inside", "iso", "grid")
 _ALL = set(_COMMON) | set(_LOAD) | {k for v in _BY_METHOD.values() for k in v} | {"allow_open"}
@@ -316,6 +320,22 @@ def _prepare(method, options):
     elif method == "rsa":
         if "passes" in given and (has_radius or has_count):
             raise ValueError("give either passes or radius with count (one pass), not both")
+        # count=N alone: N particles of the radius at which they fill
+        # target_fraction (default 0.3), set once the container is known
+        count_radius = has_count and not has_radius and "passes" not in given
+        if "target_fraction" in given and not count_radius:
+            raise ValueError("method='rsa' takes radius=R or target_fraction=F (which chooses "
+                             "the radius for count=N), not both")
+        if count_radius:
+            if given["count"] == "max":
+                raise ValueError("count='max' needs radius=R (the radius to fill with)")
+            tf = RSA_COUNT_FRACTION
+            if "target_fraction" in given:
+                tf = _arrays.number(given["target_fraction"], "target_fraction")
+                if not 0 < tf < 1:
+                    raise ValueError("target_fraction must be a number in (0, 1), not %r" % tf)
+            given["radius"] = 1.0  # a placeholder until the container's volume is known
+            has_radius = True
         retries = 0
         if "retries" in given:
             retries = _arrays.whole(given["retries"], "retries", 1, 1000000000)
@@ -410,7 +430,31 @@ def _prepare(method, options):
         if "max_sweeps" in given:
             xp.max_sweeps = _arrays.whole(given["max_sweeps"], "max_sweeps", 0, (1 << 31) - 1)
         params, keep = xp, []
+    margin, gap = 0.0, 0.0
+    for k in ("margin", "gap"):
+        if k in given:
+            v = _arrays.number(given[k], k)
+            if not (v >= 0 and math.isfinite(v)):
+                raise ValueError("%s must be a distance >= 0 (world units), not %r"
+                                 % (k, given[k]))
+            if k == "margin":
+                margin = v
+            else:
+                gap = v
+    if (margin > 0 or gap > 0) and method == "rsa" and shape_id != 0:
+        raise ValueError("margin and gap pack spheres in this version, not shape=%r"
+                         % (shape_opt,))
+    if method != "lattice":
+        params.margin, params.gap = margin, gap
     return locals()
+
+
+def _unit_volume(params, mesh):
+    """The volume of one particle of bounding radius 1 (as the command
+    line's unit_volume)."""
+    if mesh is not None:
+        return lib.vp_mesh_shape_volume(mesh._ptr)
+    return lib.vp_shape_unit_volume_param(params.shape, params.shape_param)
 
 
 class _Field:
@@ -569,8 +613,11 @@ def pack(container, method="lattice", **options):
     - rsa: passes (a list of dicts with count (N or "max"), radius (a
       number or a distribution string), retries, grow, name; or the command
       line's 'count=N,radius=R,grow' texts), or for one pass radius with
-      count (N or "max") and grow; retries; orient ("random", "fixed") and
-      overlap ("exact", "bbox") for solids;
+      count (N or "max") and grow, or count=N alone (the radius at which
+      N fill target_fraction, default 0.3); retries; orient ("random",
+      "fixed") and overlap ("exact", "bbox") for solids;
+    - rsa (spheres), relax, jam: margin and gap (world distances kept from
+      the wall and between surfaces);
     - relax: radius (a number or a distribution), count, target_fraction,
       tolerance, max_sweeps;
     - fields and masks (docs/fields.md): mask (all methods: a Container,
@@ -646,6 +693,10 @@ def pack(container, method="lattice", **options):
                 lib.vp_container_params_for_lattice(ctypes.byref(cp), ctypes.byref(params))
             elif method == "rsa":
                 lib.vp_container_params_for_rsa(ctypes.byref(cp), ctypes.byref(params))
+                if j.get("count_radius"):  # the radius follows from the volume
+                    cp.particle_radius = 0
+                    cp.particle_count = params.passes[0].count
+                    cp.space_per_particle = _unit_volume(params, mesh) / j["tf"]
             elif method == "jam":
                 lib.vp_container_params_for_jam(ctypes.byref(cp), ctypes.byref(params))
             else:
@@ -664,6 +715,17 @@ def pack(container, method="lattice", **options):
         df.check("density field", 0, cont)
     ci = cont._info
 
+    if method == "rsa" and j.get("count_radius"):
+        # as rsa_count_radius: N particles that fill tf of the container
+        n = params.passes[0].count
+        rc = math.cbrt(j["tf"] * ci["volume"] / (n * _unit_volume(params, mesh)))
+        if not FLT_MIN <= rc <= FLT_MAX:
+            raise ValueError("count %d in %s gives a radius of about %g, outside 1.2e-38..3.4e38 "
+                             "(radii are stored as float)" % (n, cname, rc))
+        if params.gap > 0 and not params.gap < rc:
+            raise ValueError("gap %g must be smaller than the radius %g that count=%d gives"
+                             % (params.gap, rc, n))
+        params.passes[0].radius = _size_dist(rc, "radius")
     if method == "lattice" and params.count:
         f = lib.vp_lattice_fraction_param(params.shape, params.shape_param, params.lattice)
         rc = (ci["volume"] * f / (params.count * lib.vp_shape_unit_volume_param(
@@ -781,6 +843,16 @@ def pack(container, method="lattice", **options):
     }
     if mesh is not None:
         md["shape_file"] = mesh.name
+    if method != "lattice":
+        # what `vdbpack check` holds the file to by default
+        if params.margin > 0:
+            md["margin"] = params.margin
+        if params.gap > 0:
+            md["gap"] = params.gap
+        r.update(margin=params.margin, gap=params.gap)
+    if method == "rsa" and j.get("count_radius"):
+        md["target_fraction"] = j["tf"]
+        r["target_fraction"] = j["tf"]
     if ci["kind"] == "mesh":
         md["inside"] = cont._inside or "auto"
     if "iso" in load:

@@ -1410,6 +1410,8 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                x->max_overlap);
     }
     if (strcmp(o->method, "rsa") != 0) json_fields(o); /* (rsa: with its passes) */
+    if (!strcmp(o->method, "relax") || !strcmp(o->method, "jam"))
+        printf(",\"margin\":%.17g,\"gap\":%.17g", o->margin, o->gap);
     printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
            (unsigned long long)o->seed, threads, rr->pack_seconds, seconds);
     vp_cli_json_string(stdout, o->output);
@@ -1506,6 +1508,9 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                               : "");
     } else if (!strcmp(o->method, "jam")) {
         const vp_jam_report *x = &rr->jam;
+        if (o->margin > 0 || o->gap > 0)
+            printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
+                   o->gap);
         printf("  jamming: %d minimisations, %ld FIRE steps; radii scaled by %.6g; largest "
                "overlap %.3g of r_i + r_j\n", x->minimizations, x->iterations, x->radius_scale,
                x->max_overlap);
@@ -1518,6 +1523,9 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             printf("  packing fraction %.4f (no core 5 diameters from the wall)\n", fraction);
     } else {
         const vp_relax_report *x = &rr->relax;
+        if (o->margin > 0 || o->gap > 0)
+            printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
+                   o->gap);
         printf("  relaxation: %d sweeps, radii scaled by %.4f, largest overlap %.3g of r_i + r_j\n",
                x->sweeps, x->radius_scale, x->max_overlap);
         printf("  packing fraction %.4f (%.4f before relaxation)\n", fraction,
@@ -1736,8 +1744,6 @@ int vp_cli_pack(int argc, char **argv) {
         meta[nmeta++] = (vp_meta){"requested", VP_META_STRING, requested_text, 0, 0};
         meta[nmeta++] = (vp_meta){"placed", VP_META_STRING, placed_text, 0, 0};
         meta[nmeta++] = (vp_meta){"short", VP_META_INT, NULL, nshort > 0, 0};
-        if (o.margin > 0) meta[nmeta++] = (vp_meta){"margin", VP_META_DOUBLE, NULL, 0, o.margin};
-        if (o.gap > 0) meta[nmeta++] = (vp_meta){"gap", VP_META_DOUBLE, NULL, 0, o.gap};
         if (o.rsa_count_radius)
             meta[nmeta++] = (vp_meta){"target_fraction", VP_META_DOUBLE, NULL, 0,
                                       o.target_fraction};
@@ -1763,6 +1769,9 @@ int vp_cli_pack(int argc, char **argv) {
         meta[nmeta++] = (vp_meta){"radius_scale", VP_META_DOUBLE, NULL, 0, rr.relax.radius_scale};
         meta[nmeta++] = (vp_meta){"max_overlap", VP_META_DOUBLE, NULL, 0, rr.relax.max_overlap};
     }
+    /* what `vdbpack check` then holds the file to by default */
+    if (o.margin > 0) meta[nmeta++] = (vp_meta){"margin", VP_META_DOUBLE, NULL, 0, o.margin};
+    if (o.gap > 0) meta[nmeta++] = (vp_meta){"gap", VP_META_DOUBLE, NULL, 0, o.gap};
     vp_write_params wp;
     vp_write_params_init(&wp);
     wp.full_precision = o.full_precision;
