@@ -83,6 +83,7 @@ int main(int argc, char **argv) {
         {"sphere40r", 1, 40, "1", 40960, NULL, 0},  /* 0.64 * 40^3 */
         {"lognormal100k", 0, 0, "lognormal:1:0.2", 100000, NULL, 0},
         {"binary100k", 0, 0, "list:1:1:1:1:1:1:1:1:2", 100000, NULL, 0},
+        {"peanut30k", 2, 0, "1", 30000, VP_SOURCE_DIR "/vdb_samples/peanut.obj", 0},
         {"peanut200k", 2, 0, "1", 200000, VP_SOURCE_DIR "/vdb_samples/peanut.obj", 0},
         {"skull200k", 2, 0, "1", 200000, VP_SHARED_CONTAINERS "/skull.obj", 0},
     };

@@ -78,7 +78,20 @@ for cont in box:1,1,1 "$VP_SRC/vdb_samples/peanut.obj"; do
 done
 echo "  ok: --margin 0.04 --gap 0.003 held (box, peanut.obj), and twice them fail check"
 
-# 4. bad input: one line, non-zero exit, no output file
+# 4. the core of a mesh container (a narrow-band level set, whose distance
+# is clamped a few voxels in): the depth map vouches for it
+"$VDBPACK" pack "$VP_SRC/vdb_samples/peanut.obj" --method jam --count 20000 --voxel-size 0.01 \
+  -o core.vdb -q --json >core.json || die "peanut core: pack"
+$PY - <<'PY' || die "the core of peanut.obj"
+import json
+d = json.load(open("core.json"))
+assert d["core_count"] >= 100, d["core_count"]
+assert 0.58 < d["core_fraction"] < 0.70, d["core_fraction"]
+print("  ok: peanut.obj, 20000 spheres: core of %d spheres at %.4f (whole %.4f)"
+      % (d["core_count"], d["core_fraction"], d["packing_fraction"]))
+PY
+
+# 5. bad input: one line, non-zero exit, no output file
 bad() { # DESCRIPTION ARGS...
   local what=$1; shift
   rm -f bad.vdb

@@ -45,7 +45,9 @@ typedef struct vp_jam_report {
     size_t count;
     double fraction;         /* the spheres' volume / the container's */
     double core_fraction;    /* the same in the core: centres farther than 5
-                                mean diameters from the wall (0: no core) */
+                                mean diameters from the wall (0: no core; a
+                                level set: where its depth map vouches for
+                                that depth, docs/jam.md) */
     size_t core_count;       /* spheres in the core */
     double core_volume;      /* the core's volume */
     double mean_contacts;    /* Z: contacts per sphere over non-rattlers

@@ -751,16 +751,35 @@ static void contacts(jam *s, double gap, vp_jam_report *rep) {
     free(rattler);
 }
 
+/* Whether x is known to lie deeper than `depth` inside: by the distance
+ * (exact in analytic containers; a level set's values are clamped past
+ * its narrow band, so they never read deeper than it), or past the band
+ * by the depth map's lower bound (core/depth_map.h: true depth >= -bound
+ * where it decides). Conservative: a point neither decides is not deep. */
+static int deeper_than(const vp_container *c, const vp_depth_map *dm, const double x[3],
+                       double depth) {
+    if (vp_container_distance(c, x) < -depth) return 1;
+    double b = vp_depth_map_at(dm, x); /* NaN without a map or undecided */
+    return b < 0 && -b > depth;
+}
+
 /* The core: centres deeper than CORE_DIAMETERS mean diameters (none when
- * it holds fewer than 100 spheres). Its volume
- * is counted on a grid of about 2^21 sample points over the container's box. */
+ * it holds fewer than 100 spheres), by deeper_than: in a level set
+ * narrower than that, the part of the core its depth map vouches for.
+ * Its volume is counted the same way on a grid of about 2^21 sample
+ * points over the container's box. */
 static void core(jam *s, vp_jam_report *rep) {
     const vp_container_info *ci = &s->c->info;
     double depth = CORE_DIAMETERS * s->dmean;
     size_t count = 0;
     double vol = 0;
+    vp_depth_map dm;
+    memset(&dm, 0, sizeof dm);
+    const vp_depth_map *dmp = NULL;
+    if (s->c->depth_map && ci->interior_band < depth && s->c->depth_map(s->c, &dm) == 0)
+        dmp = &dm;
     for (size_t i = 0; i < s->n; i++) {
-        if (vp_container_distance(s->c, s->x + 4 * i) < -depth) {
+        if (deeper_than(s->c, dmp, s->x + 4 * i, depth)) {
             count++;
             double r = s->scale * R0(s, i);
             vol += 4.0 / 3.0 * M_PI * r * r * r;
@@ -784,8 +803,9 @@ static void core(jam *s, vp_jam_report *rep) {
                 double p[3] = {ci->bmin[0] + (i + 0.5) * ext[0] / m[0],
                                ci->bmin[1] + (j + 0.5) * ext[1] / m[1],
                                ci->bmin[2] + (k + 0.5) * ext[2] / m[2]};
-                if (vp_container_distance(s->c, p) < -depth) inside++;
+                if (deeper_than(s->c, dmp, p, depth)) inside++;
             }
+    vp_depth_map_free(&dm);
     double cv = (double)inside * bv / ((double)m[0] * m[1] * m[2]);
     /* a core of fewer than 100 spheres says nothing: none */
     if (count < 100 || !(cv > 0)) {

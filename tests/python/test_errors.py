@@ -229,7 +229,7 @@ def test_python_side_option_errors(tmp_path):
         vdbpack.pack("box:1,1,1", raduis=0.1)
     with pytest.raises(ValueError, match="passes goes with method='rsa'"):
         vdbpack.pack("box:1,1,1", radius=0.1, passes=[])
-    with pytest.raises(ValueError, match="target_fraction goes with method='relax'"):
+    with pytest.raises(ValueError, match="takes radius=R or target_fraction=F"):
         vdbpack.pack("box:1,1,1", method="rsa", radius=0.1, count=5, target_fraction=0.5)
     with pytest.raises(ValueError, match="lattice goes with method='lattice'"):
         vdbpack.pack("box:1,1,1", method="relax", radius=0.1, count=5, lattice="fcc")
