@@ -182,6 +182,17 @@ static int check_extent(const char *path, uint64_t size, char *err, size_t errle
     return VP_OK;
 }
 
+int read_grid_metadata(const char *path, openvdb::io::File &file, int none_code,
+                       openvdb::GridPtrVecPtr &metas, char *err, size_t errlen)
+{
+    int rc = open_file(path, file, err, errlen);
+    if (rc != VP_OK) return rc;
+    metas = file.readAllGridMetadata();
+    if (!metas || metas->empty())
+        return fail(err, errlen, none_code, "%s: the file holds no grids", path);
+    return VP_OK;
+}
+
 int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen)
 {
     if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");

@@ -72,11 +72,9 @@ extern "C" int vpv_field_read(const char *path, const char *grid_name, vpv_field
     vpv_init();
     return guard(path, Op::Read, err, errlen, [&]() -> int {
         openvdb::io::File file(path ? path : "");
-        int rc = open_file(path, file, err, errlen);
+        openvdb::GridPtrVecPtr metas;
+        int rc = read_grid_metadata(path, file, VP_ERR_INVALID_ARGUMENT, metas, err, errlen);
         if (rc != VP_OK) return rc;
-        openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
-        if (!metas || metas->empty())
-            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%s: the file holds no grids", path);
         const openvdb::GridPtrVec &grids = *metas;
         size_t pick = grids.size();
         for (size_t i = 0; i < grids.size() && pick == grids.size(); ++i) {

@@ -90,6 +90,12 @@ int check_writable(const char *path, char *err, size_t errlen);
 // OpenVDB throws).
 int open_file(const char *path, openvdb::io::File &file, char *err, size_t errlen);
 
+// open_file, then every grid's metadata into *metas (no voxels read); a
+// file without grids fails with none_code ("path: the file holds no
+// grids"), the result each reader gives for a file it cannot use.
+int read_grid_metadata(const char *path, openvdb::io::File &file, int none_code,
+                       openvdb::GridPtrVecPtr &metas, char *err, size_t errlen);
+
 // "level set", "fog volume", ...
 std::string class_name(const openvdb::GridBase &g);
 // "float", "double", "points", "vec3s", ...

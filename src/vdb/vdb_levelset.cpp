@@ -186,11 +186,9 @@ int read_levelset(const char *path, const char *grid_name, const double *iso, vp
     vpv_init();
     return guard(path, Op::Read, err, errlen, [&]() -> int {
         openvdb::io::File file(path ? path : "");
-        int rc = open_file(path, file, err, errlen);
+        openvdb::GridPtrVecPtr metas;
+        int rc = read_grid_metadata(path, file, VP_ERR_NOT_LEVEL_SET, metas, err, errlen);
         if (rc != VP_OK) return rc;
-        openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
-        if (!metas || metas->empty())
-            return fail(err, errlen, VP_ERR_NOT_LEVEL_SET, "%s: the file holds no grids", path);
         const openvdb::GridPtrVec &grids = *metas;
         size_t pick = grids.size();
         if (!grid_name) {
