@@ -178,4 +178,21 @@ assert secs == sorted(secs), secs
 print("  ok: --progress: %d stages in order (%s), fractions %s" % (len(stages), " ".join(stages),
       " ".join("%.3f" % f for f in fr)))
 PY
+echo "=== progress on a terminal (script(1) gives one): the bar counts rsa's particles"
+if command -v script >/dev/null 2>&1; then
+  script -q -c "'$VDBPACK' pack box:1,1,1 --method rsa --pass count=300000,radius=0.008 --threads 1 -o t.vdb" \
+    /dev/null >bar.txt 2>&1 </dev/null || die "the run under script failed: $(tail -c 300 bar.txt)"
+  "$PY" - bar.txt <<'PY' || exit 1
+import re, sys
+text = open(sys.argv[1], errors="replace").read().replace("\r", "\n")
+got = [(int(a), int(b)) for a, b in re.findall(r"rsa (\d+) of (\d+)", text)]
+assert len(got) >= 2, text[-400:]
+assert all(t == 300000 for _, t in got), got
+done = [d for d, _ in got]
+assert done == sorted(done) and 0 < done[0] < 300000, done
+print("  ok: the bar counts %d states, %d .. %d of 300000" % (len(got), done[0], done[-1]))
+PY
+else
+  echo "  (no script(1): the terminal bar is not tested)"
+fi
 echo "PASS: sh_options"

@@ -90,6 +90,11 @@ VP_API const char *vp_context_message(const vp_context *ctx);
 VP_API void vp_context_set_threads(vp_context *ctx, int threads);
 VP_API int vp_context_threads(const vp_context *ctx);
 VP_API void vp_context_set_progress(vp_context *ctx, vp_progress_fn fn, void *user);
+/* Inside a progress callback: 1, with the particles the current stage has
+ * placed so far and the number it aims at (*total 0: none fixed, as a
+ * maximal pass), when the stage reports counts (the random packer's
+ * passes, per pass); else 0. Either pointer may be NULL. */
+VP_API int vp_context_progress_counts(const vp_context *ctx, uint64_t *done, uint64_t *total);
 /* Async-signal-safe: removes the temporary files of every write still in
  * progress in this process (outputs are written to a temporary name and
  * renamed). For a signal handler that is about to _exit(); the targets of

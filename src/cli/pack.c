@@ -105,10 +105,13 @@ typedef struct pack_opts {
  * phase the library's own fraction, which may restart (a lattice search
  * per radius tried, a random packer's passes), counts only where it passes
  * its largest so far. Elapsed and remaining time (remaining: elapsed times
- * what is left over what is done). --progress on a non-terminal: one line
- * per stage instead ("progress: STAGE FRACTION ELAPSED"), for scripts. */
+ * what is left over what is done), and the particles placed so far where
+ * the stage counts them (vp_context_progress_counts: rsa's passes).
+ * --progress on a non-terminal: one line per stage instead ("progress:
+ * STAGE FRACTION ELAPSED"), for scripts. */
 
 typedef struct progress {
+    const vp_context *ctx; /* for the stage's counts */
     double start;
     int shown;
     int bar;        /* draw a bar (stderr is a terminal) */
@@ -165,11 +168,19 @@ static int on_progress(void *user, double fraction, const char *stage) {
     if (filled > w) filled = w;
     if (filled < 0) filled = 0;
     double el = t - p->start;
-    char left[32] = "";
+    char left[32] = "", counts[48] = "";
     if (p->done >= 0.02) snprintf(left, sizeof left, ", %.0f s left", el * (1 - p->done) / p->done);
-    fprintf(stderr, "\r[%.*s%*s] %3d%% %s: %-16.16s %.0f s%-14s", filled,
+    uint64_t cd = 0, ct = 0;
+    if (vp_context_progress_counts(p->ctx, &cd, &ct)) {
+        if (ct) snprintf(counts, sizeof counts, " %llu of %llu", (unsigned long long)cd,
+                         (unsigned long long)ct);
+        else snprintf(counts, sizeof counts, " %llu placed", (unsigned long long)cd);
+    }
+    char mid[64];
+    snprintf(mid, sizeof mid, "%s%s", stage ? stage : "", counts);
+    fprintf(stderr, "\r[%.*s%*s] %3d%% %s: %-26.26s %.0f s%-14s", filled,
             "##############################", w - filled, "", (int)(p->done * 100 + 0.5),
-            p->phase, stage ? stage : "", el, left);
+            p->phase, mid, el, left);
     fflush(stderr);
     p->shown = 1;
     return 1;
@@ -1578,6 +1589,7 @@ int vp_cli_pack(int argc, char **argv) {
     if (o.max_memory) vp_context_set_max_memory(ctx, o.max_memory);
     progress prog;
     memset(&prog, 0, sizeof prog);
+    prog.ctx = ctx;
     prog.start = now();
     prog.lines = o.progress;
     prog.bar = !o.progress && !o.quiet && !o.json && isatty(2);

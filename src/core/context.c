@@ -82,6 +82,24 @@ int vp_report_progress(vp_context *ctx, double fraction, const char *stage) {
     return ctx->progress(ctx->progress_user, fraction, stage);
 }
 
+int vp_report_progress_counts(vp_context *ctx, double fraction, const char *stage,
+                              uint64_t done, uint64_t total) {
+    if (!ctx || !ctx->progress) return 1;
+    ctx->has_counts = 1;
+    ctx->count_done = done;
+    ctx->count_total = total;
+    int go = ctx->progress(ctx->progress_user, fraction, stage);
+    ctx->has_counts = 0;
+    return go;
+}
+
+int vp_context_progress_counts(const vp_context *ctx, uint64_t *done, uint64_t *total) {
+    if (!ctx || !ctx->has_counts) return 0;
+    if (done) *done = ctx->count_done;
+    if (total) *total = ctx->count_total;
+    return 1;
+}
+
 uint64_t vp_memory_limit(const vp_context *ctx) {
     if (ctx && ctx->max_memory) return ctx->max_memory;
     long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);

@@ -1645,11 +1645,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             }
         }
         if (r != VP_OK || done) break;
-        if (!vp_report_progress(s->ctx,
-                                prog0 + (prog1 - prog0) *
-                                            (ps->maximal ? (double)s->level / s->max_level
-                                                         : (double)rep->placed / (double)want),
-                                "rsa")) {
+        if (!vp_report_progress_counts(
+                s->ctx,
+                prog0 + (prog1 - prog0) * (ps->maximal ? (double)s->level / s->max_level
+                                                       : (double)rep->placed / (double)want),
+                "rsa", rep->placed, ps->maximal ? 0 : want)) {
             r = vp_fail(s->ctx, VP_ERR_CANCELLED, "rsa: cancelled");
             break;
         }

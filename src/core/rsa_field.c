@@ -153,8 +153,8 @@ vp_result vp_rsa_fields_pack(vp_context *ctx, const vp_container *c, const vp_rs
             if ((k & 4095) == 0) {
                 double done = ps->maximal ? (double)fails / (double)retries
                                           : (double)placed / (double)ps->count;
-                if (!vp_report_progress(ctx, ((double)i + done) / (double)params->npasses,
-                                        "rsa")) {
+                if (!vp_report_progress_counts(ctx, ((double)i + done) / (double)params->npasses,
+                                               "rsa", placed, ps->maximal ? 0 : ps->count)) {
                     r = vp_fail(ctx, VP_ERR_CANCELLED, "rsa: cancelled");
                     break;
                 }
