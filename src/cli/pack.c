@@ -1389,7 +1389,6 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                    o->overlap == VP_OVERLAP_BBOX ? "bbox" : "exact");
         if (o->rsa_count_radius)
             printf(",\"target_fraction\":%.17g", o->target_fraction);
-        printf(",\"margin\":%.17g,\"gap\":%.17g", o->margin, o->gap);
         json_fields(o);
         printf(",\"passes\":[");
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
@@ -1421,7 +1420,7 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
                x->max_overlap);
     }
     if (strcmp(o->method, "rsa") != 0) json_fields(o); /* (rsa: with its passes) */
-    if (!strcmp(o->method, "relax") || !strcmp(o->method, "jam"))
+    if (strcmp(o->method, "lattice") != 0)
         printf(",\"margin\":%.17g,\"gap\":%.17g", o->margin, o->gap);
     printf(",\"seed\":%llu,\"threads\":%d,\"pack_seconds\":%.6f,\"seconds\":%.6f,\"output\":",
            (unsigned long long)o->seed, threads, rr->pack_seconds, seconds);
@@ -1461,6 +1460,9 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
         printf("  container: analytic, volume %.6g\n", ci->volume);
     if (ci->voxel_size > 0) printf("  voxel size %.6g: %s\n", ci->voxel_size, ci->voxel_reason);
     summary_fields(o);
+    if (o->margin > 0 || o->gap > 0)
+        printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
+               o->gap);
     if (!strcmp(o->method, "lattice")) {
         const vp_lattice_report *l = &rr->lat;
         printf("  placement: %d offsets tried over %d orientation%s", l->offsets_tried,
@@ -1481,9 +1483,6 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             printf("  radius %.6g: %llu of them fill %.3g of the container (--target-fraction)\n",
                    vp_size_dist_max(&o->passes[0].radius), (unsigned long long)o->count,
                    o->target_fraction);
-        if (o->margin > 0 || o->gap > 0)
-            printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
-                   o->gap);
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
             const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
             char sz[256];
@@ -1519,9 +1518,6 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                               : "");
     } else if (!strcmp(o->method, "jam")) {
         const vp_jam_report *x = &rr->jam;
-        if (o->margin > 0 || o->gap > 0)
-            printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
-                   o->gap);
         printf("  jamming: %d minimisations, %ld FIRE steps; radii scaled by %.6g; largest "
                "overlap %.3g of r_i + r_j\n", x->minimizations, x->iterations, x->radius_scale,
                x->max_overlap);
@@ -1534,9 +1530,6 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
             printf("  packing fraction %.4f (no core 5 diameters from the wall)\n", fraction);
     } else {
         const vp_relax_report *x = &rr->relax;
-        if (o->margin > 0 || o->gap > 0)
-            printf("  kept apart: margin %g from the wall, gap %g between surfaces\n", o->margin,
-                   o->gap);
         printf("  relaxation: %d sweeps, radii scaled by %.4f, largest overlap %.3g of r_i + r_j\n",
                x->sweeps, x->radius_scale, x->max_overlap);
         printf("  packing fraction %.4f (%.4f before relaxation)\n", fraction,
