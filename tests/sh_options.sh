@@ -156,6 +156,13 @@ bad 2 "--margin 0.5 leaves no room in sphere:0.5, whose inradius is 0.5" sphere:
 bad 1 "margin" "$P" --method rsa --radius 0.05 --count 10 --margin 0.8 -o bad.csv
 bad 2 "--margin goes with --method rsa, relax and jam, not lattice" box:1,1,1 --radius 0.05 --margin 0.1 -o bad.csv
 bad 2 "pack spheres in this version" box:1,1,1 --method rsa --shape cube --radius 0.05 --count 10 --gap 0.01 -o bad.csv
+echo "=== a value that looks like an abbreviated option stays as typed"
+# (-o --d: the output '--d'; the abbreviation rewrite of '--d' was freed
+# while the output name still pointed into it: fuzz_options found it)
+bad 2 "the format of '--d'" box:1,1,1 --radius 0.2 -o --d
+"$VDBPACK" pack box:1,1,1 --radius 0.2 --out=--d.csv -q || die "--out=--d.csv failed"
+[ -s ./--d.csv ] || die "--out=--d.csv did not write './--d.csv'"
+echo "  ok: --out=--d.csv wrote ./--d.csv"
 echo "=== progress: nothing on a non-terminal; --progress: one line per stage"
 "$VDBPACK" pack "$P" --method rsa --radius 0.03 --count 500 -o q.vdb >/dev/null 2>q.err
 [ ! -s q.err ] || die "a non-terminal got progress output: $(cat q.err)"

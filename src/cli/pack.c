@@ -703,6 +703,19 @@ static char *shortest_prefix_option(const char *arg) {
     return s;
 }
 
+/* optarg as the user typed it. getopt takes values from args, where
+ * shortest_prefix_option may have rewritten an argument (owned[i], freed
+ * after parsing): a whole argument taken as a value (-o --d: the file
+ * "--d") is the original argv[i]; a value after '=' is the same last
+ * characters of the original, which the rewrite copied. */
+static const char *typed_value(const char *v, char *const *owned, char *const *orig, int n) {
+    for (int i = 0; v && i < n; i++) {
+        if (!owned[i] || v < owned[i] || v > owned[i] + strlen(owned[i])) continue;
+        return v == owned[i] ? orig[i] : orig[i] + strlen(orig[i]) - strlen(v);
+    }
+    return v;
+}
+
 static int parse_pack(int argc, char **argv, pack_opts *o) {
     memset(o, 0, sizeof *o);
     o->method = "lattice";
@@ -734,7 +747,7 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
     opterr = 0;
     int rc = 0, c, idx;
     while (!rc && (c = getopt_long(n, args, "-:o:qh", PACK_OPTIONS, &idx)) != -1) {
-        const char *v = optarg;
+        const char *v = typed_value(optarg, owned, argv + 1, n);
         if (c == '?' || c == ':') {
             rc = option_error(c, args[optind - 1]);
         } else if (c == 1) {
@@ -746,7 +759,7 @@ static int parse_pack(int argc, char **argv, pack_opts *o) {
             if (v && c != OPT_PASS) {
                 /* as typed: -o, or the long name (an abbreviation in full);
                  * vp_cli_once keeps the pointer: a string that stays */
-                const char *opt_arg = v == args[optind - 1] ? args[optind - 2] : args[optind - 1];
+                const char *opt_arg = optarg == args[optind - 1] ? args[optind - 2] : args[optind - 1];
                 const char *typed = c == OPT_OUTPUT && opt_arg[1] != '-' ? "-o" : dashed_name(c);
                 rc = vp_cli_once(&seen, "pack", typed, v);
             }
