@@ -61,6 +61,12 @@ static void structs(void) {
     F(vp_particles, uniform_orient); F(vp_particles, has_orient); F(vp_particles, shape);
     F(vp_particles, mesh); F(vp_particles, groups); F(vp_particles, group_count);
     F(vp_particles, group_names); F(vp_particles, position_error); F(vp_particles, shape_param);
+    F(vp_particles, shape_index); F(vp_particles, shape_count); F(vp_particles, shapes);
+    F(vp_particles, shape_names);
+    printf("}");
+
+    S(vp_shape_ref);
+    F(vp_shape_ref, shape); F(vp_shape_ref, param); F(vp_shape_ref, mesh);
     printf("}");
 
     S(vp_lattice_params);
@@ -107,6 +113,7 @@ static void structs(void) {
     S(vp_rsa_pass);
     F(vp_rsa_pass, count); F(vp_rsa_pass, maximal); F(vp_rsa_pass, radius);
     F(vp_rsa_pass, retries); F(vp_rsa_pass, grow); F(vp_rsa_pass, name);
+    F(vp_rsa_pass, own_shape); F(vp_rsa_pass, shape);
     printf("}");
 
     S(vp_rsa_params);
@@ -221,7 +228,8 @@ int main(void) {
     C(VP_SHAPE_TRUNCATED_CUBOCTAHEDRON); C(VP_SHAPE_SNUB_CUBE); C(VP_SHAPE_ICOSIDODECAHEDRON);
     C(VP_SHAPE_TRUNCATED_DODECAHEDRON); C(VP_SHAPE_TRUNCATED_ICOSAHEDRON);
     C(VP_SHAPE_RHOMBICOSIDODECAHEDRON); C(VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON);
-    C(VP_SHAPE_SNUB_DODECAHEDRON); C(VP_SHAPE_COUNT); C(VP_SHAPE_MESH);
+    C(VP_SHAPE_SNUB_DODECAHEDRON); C(VP_SHAPE_COUNT); C(VP_SHAPE_MESH); C(VP_SHAPE_MIXED);
+    C(VP_MAX_SHAPES); C(VP_SHAPE_NAME_MAX);
     C(VP_LATTICE_DEFAULT); C(VP_LATTICE_SC); C(VP_LATTICE_BCC); C(VP_LATTICE_FCC);
     C(VP_LATTICE_HCP); C(VP_LATTICE_DENSEST);
     C(VP_FIT_INSIDE); C(VP_FIT_CENTER); C(VP_ORIENT_RANDOM); C(VP_ORIENT_FIXED);

@@ -2,7 +2,8 @@
 // An independent reader of OpenVDB points for the export tests: OpenVDB's
 // own API only (no vdbpack code). Prints one line per point of the first
 // PointDataGrid (preferring "points"):
-//   id x y z pscale [qx qy qz qw] groups
+//   id x y z pscale [qx qy qz qw] groups [shape]
+// (shape: the int32 "shape" attribute of a set of several shapes)
 // world position = indexToWorld(voxel coordinate + P), printed with %.17g;
 // pscale and orient as stored (%.9g); groups = comma list of group names.
 #include <openvdb/openvdb.h>
@@ -36,6 +37,9 @@ int main(int argc, char **argv)
             std::unique_ptr<vp::AttributeHandle<openvdb::math::Quats>> ho;
             if (desc.find("orient") != vp::AttributeSet::INVALID_POS)
                 ho.reset(new vp::AttributeHandle<openvdb::math::Quats>(leaf->constAttributeArray("orient")));
+            std::unique_ptr<vp::AttributeHandle<int32_t>> hs;
+            if (desc.find("shape") != vp::AttributeSet::INVALID_POS)
+                hs.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray("shape")));
             std::vector<std::pair<std::string, vp::GroupHandle>> gh;
             for (const auto &kv : desc.groupMap()) gh.emplace_back(kv.first, leaf->groupHandle(kv.first));
             for (auto idx = leaf->beginIndexOn(); idx; ++idx) {
@@ -48,7 +52,9 @@ int main(int argc, char **argv)
                 std::string gs;
                 for (auto &g : gh)
                     if (g.second.get(*idx)) gs += (gs.empty() ? "" : ",") + g.first;
-                std::printf(" %s\n", gs.empty() ? "-" : gs.c_str());
+                std::printf(" %s", gs.empty() ? "-" : gs.c_str());
+                if (hs) std::printf(" %d", hs->get(*idx));
+                std::printf("\n");
             }
         }
     } catch (const std::exception &e) {

@@ -31,6 +31,12 @@ typedef struct vp_rsa_pass {
     int grow;              /* after the pass, grow its particles until each
                               touches a neighbour (or the wall with fit inside) */
     char name[VP_GROUP_NAME_MAX]; /* group name; "" = "passK" (K from 1) */
+    int own_shape;         /* 1: this pass packs `shape`; 0 (default): the
+                              params' shape. Passes of different shapes make
+                              a mixed set (VP_SHAPE_MIXED, at most
+                              VP_MAX_SHAPES shapes; no margin, gap, fields
+                              or bounding-box test) */
+    vp_shape_ref shape;
 } vp_rsa_pass;
 VP_API void vp_rsa_pass_init(vp_rsa_pass *p);
 

@@ -141,11 +141,31 @@ typedef enum vp_shape {
     VP_SHAPE_SNUB_DODECAHEDRON,
     VP_SHAPE_COUNT,        /* the number of built-in shapes above */
     VP_SHAPE_MESH = 64,    /* a closed mesh from a file (vp_mesh_shape) */
-    VP_SHAPE_SUPERBALL = 65 /* |x|^2p + |y|^2p + |z|^2p <= 1, convex (0.5 <= p <=
+    VP_SHAPE_SUPERBALL = 65, /* |x|^2p + |y|^2p + |z|^2p <= 1, convex (0.5 <= p <=
                               1000): p = 1 a sphere, 0.5 an octahedron, large
                               p nearly a cube; p is the shape_param field of
                               the particle set and of the packers' params */
+    VP_SHAPE_MIXED = 66    /* a particle set of several shapes (rsa passes of
+                              different shapes): vp_particles.shapes names
+                              them, vp_particles.shape_index gives each
+                              particle's; never a packer's shape */
 } vp_shape;
+
+/* A particle shape from a closed mesh (vp_mesh_shape_load, below). */
+typedef struct vp_mesh_shape vp_mesh_shape;
+
+/* One particle shape with what it needs: a built-in shape, a superball with
+ * its exponent, or a mesh shape. */
+typedef struct vp_shape_ref {
+    vp_shape shape;
+    double param;               /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
+    const vp_mesh_shape *mesh; /* VP_SHAPE_MESH: the shape (not owned); else NULL */
+} vp_shape_ref;
+/* Most distinct shapes in one particle set, and the longest recorded name
+ * of a mesh shape (with its terminating 0) that a set read from a file
+ * keeps. */
+#define VP_MAX_SHAPES 16
+#define VP_SHAPE_NAME_MAX 64
 
 /* "sphere", "cube", ..., "mesh"; NULL for an invalid value. */
 VP_API const char *vp_shape_name(vp_shape s);
@@ -181,7 +201,6 @@ VP_API vp_result vp_shape_write_obj_param(vp_context *ctx, vp_shape s, double pa
  * serve several threads. Errors: unreadable or unparsable file, an open or
  * non-manifold mesh (VP_ERR_OPEN_MESH, naming the edge counts), a mesh that
  * encloses no volume (VP_ERR_FORMAT). *out is owned by the caller. */
-typedef struct vp_mesh_shape vp_mesh_shape;
 VP_API vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **out);
 VP_API void vp_mesh_shape_destroy(vp_mesh_shape *s); /* NULL: no-op */
 VP_API double vp_mesh_shape_volume(const vp_mesh_shape *s);   /* at bounding radius 1 */
@@ -421,12 +440,38 @@ typedef struct vp_particles {
                                written, from P's codec (16-bit fixed point:
                                sqrt(3) * voxel / 65535); 0 otherwise */
     double shape_param;     /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
+    /* shape == VP_SHAPE_MIXED only (else shape_index NULL, shape_count 0):
+     * the shapes (2..VP_MAX_SHAPES, in the order of the passes that
+     * introduced them) and each particle's index into them (owned) */
+    uint8_t *shape_index;
+    unsigned shape_count;
+    vp_shape_ref shapes[VP_MAX_SHAPES];
+    /* a mixed set read from a file: each mesh shape's name as the file
+     * records it (its mesh is then NULL until the caller attaches one);
+     * "" elsewhere */
+    char shape_names[VP_MAX_SHAPES][VP_SHAPE_NAME_MAX];
 } vp_particles;
 
 VP_API vp_result vp_particles_create(vp_context *ctx, size_t capacity, vp_particles **out);
 VP_API void vp_particles_destroy(vp_particles *p);
 /* Sum of particle volumes (shape volume times radius cubed). */
 VP_API double vp_particles_volume(const vp_particles *p);
+/* Particle i's shape: shapes[shape_index[i]] of a mixed set, else the
+ * set's shape, shape_param and mesh. */
+VP_API vp_shape_ref vp_particles_shape_of(const vp_particles *p, size_t i);
+/* A mixed set's shapes as files record them (the "shapes" metadata, the
+ * PLY and CSV headers): vp_shape_format of each, a mesh shape as
+ * "mesh:NAME" (vp_mesh_shape_name, or "mesh" without its mesh), joined by
+ * ';' in shape-index order: "sphere;cube;mesh:rock.obj". Any other set:
+ * its one shape. In buf (size n, always terminated); returns buf. */
+VP_API const char *vp_particles_shape_list(const vp_particles *p, char *buf, size_t n);
+/* Writes the set's unit shapes to one OBJ, atomically: group "shapeK" is
+ * shape K (a mixed set's shape index; "shape0" the one shape of another
+ * set; spheres as icospheres), for instancing by the points' shape
+ * attribute (docs/export.md, "Several shapes"). Mesh shapes need their
+ * mesh. */
+VP_API vp_result vp_particles_write_shapes_obj(vp_context *ctx, const vp_particles *p,
+                                               const char *path);
 
 /* ------------------------------------------------------------------ */
 /* Lattice packer                                                      */

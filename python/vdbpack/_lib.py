@@ -70,6 +70,8 @@ lib, LIBRARY_PATH, _libpath = _load()
 
 VP_MAX_GROUPS = 64
 VP_GROUP_NAME_MAX = 32
+VP_MAX_SHAPES = 16
+VP_SHAPE_NAME_MAX = 64
 VP_SIZE_LIST_MAX = 64
 VP_RSA_DEFAULT_RETRIES = 5000
 VP_RENDER_BACKGROUND_ID = 0xFFFFFFFF
@@ -91,6 +93,7 @@ SHAPES = ("sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosah
      "truncated-icosidodecahedron", "snub-dodecahedron")
 VP_SHAPE_SPHERE = 0
 VP_SHAPE_MESH = 64
+VP_SHAPE_MIXED = 66
 VP_SHAPE_SUPERBALL = 65  # "superball:P": the exponent P is the params' shape_param
 LATTICES = {"sc": 1, "bcc": 2, "fcc": 3, "hcp": 4, "densest": 5}
 VP_LATTICE_DEFAULT = 0
@@ -152,6 +155,10 @@ class vp_container_params(ctypes.Structure):
         ("extra_depth", ctypes.c_double)]
 
 
+class vp_shape_ref(ctypes.Structure):
+    _fields_ = [("shape", _e), ("param", ctypes.c_double), ("mesh", ctypes.c_void_p)]
+
+
 class vp_particles(ctypes.Structure):
     _fields_ = [
         ("count", ctypes.c_size_t), ("capacity", ctypes.c_size_t),
@@ -161,7 +168,10 @@ class vp_particles(ctypes.Structure):
         ("mesh", ctypes.c_void_p), ("groups", ctypes.POINTER(ctypes.c_uint16)),
         ("group_count", ctypes.c_uint),
         ("group_names", (ctypes.c_char * VP_GROUP_NAME_MAX) * VP_MAX_GROUPS),
-        ("position_error", ctypes.c_double), ("shape_param", ctypes.c_double)]
+        ("position_error", ctypes.c_double), ("shape_param", ctypes.c_double),
+        ("shape_index", ctypes.POINTER(ctypes.c_uint8)), ("shape_count", ctypes.c_uint),
+        ("shapes", vp_shape_ref * VP_MAX_SHAPES),
+        ("shape_names", (ctypes.c_char * VP_SHAPE_NAME_MAX) * VP_MAX_SHAPES)]
 
 
 class vp_lattice_params(ctypes.Structure):
@@ -207,7 +217,8 @@ class vp_rsa_pass(ctypes.Structure):
     _fields_ = [
         ("count", ctypes.c_size_t), ("maximal", ctypes.c_int), ("radius", vp_size_dist),
         ("retries", ctypes.c_int), ("grow", ctypes.c_int),
-        ("name", ctypes.c_char * VP_GROUP_NAME_MAX)]
+        ("name", ctypes.c_char * VP_GROUP_NAME_MAX), ("own_shape", ctypes.c_int),
+        ("shape", vp_shape_ref)]
 
 
 class vp_rsa_params(ctypes.Structure):
@@ -315,7 +326,7 @@ class vp_export_params(ctypes.Structure):
 
 
 # every mirrored struct, for the layout test
-STRUCTS = (vp_container_ops, vp_container_info, vp_container_params, vp_particles,
+STRUCTS = (vp_container_ops, vp_container_info, vp_container_params, vp_shape_ref, vp_particles,
            vp_lattice_params, vp_lattice_report, vp_meta, vp_write_report, vp_write_params,
            vp_size_dist, vp_field_info, vp_rsa_pass, vp_rsa_params, vp_rsa_pass_report, vp_rsa_report,
            vp_relax_params, vp_relax_report, vp_jam_params, vp_jam_report, vp_check_params,

@@ -62,12 +62,37 @@ vp_result vp_write_points(vp_context *ctx, const char *path, const vp_particles 
     }
     vp_write_params wp = *params;
     if (!wp.max_memory) wp.max_memory = vp_memory_limit(ctx);
+    /* a mixed set names its shapes (what the "shape" attribute indexes)
+     * unless the caller's metadata does */
+    vp_meta *meta = NULL;
+    char list[4096];
+    if (p->shape == VP_SHAPE_MIXED) {
+        int has_shape = 0, has_list = 0;
+        for (size_t i = 0; i < wp.meta_count; i++) {
+            has_shape |= !strcmp(wp.meta[i].key, "shape");
+            has_list |= !strcmp(wp.meta[i].key, "shapes");
+        }
+        meta = malloc((wp.meta_count + 2) * sizeof *meta);
+        if (!meta) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+        if (wp.meta_count) memcpy(meta, wp.meta, wp.meta_count * sizeof *meta);
+        size_t n = wp.meta_count;
+        if (!has_shape) meta[n++] = (vp_meta){"shape", VP_META_STRING, "mixed", 0, 0};
+        if (!has_list)
+            meta[n++] = (vp_meta){"shapes", VP_META_STRING,
+                                  vp_particles_shape_list(p, list, sizeof list), 0, 0};
+        wp.meta = meta;
+        wp.meta_count = n;
+    }
     vpv_init();
     vp_atomic a;
     vp_result r = vp_atomic_begin(ctx, path, &a);
-    if (r != VP_OK) return r;
+    if (r != VP_OK) {
+        free(meta);
+        return r;
+    }
     char err[1024];
     int rc = vpv_points_write(a.tmp_path, p, &wp, err, sizeof err);
+    free(meta);
     if (rc != VP_OK) {
         vp_atomic_abort(&a);
         return vp_fail(ctx, (vp_result)rc, "%s: %s", path, err);

@@ -41,7 +41,9 @@ const char *VP_CHECK_HELP =
     "                          file's voxel_size metadata, else automatic)\n"
     "  --grid NAME             level-set grid of a .vdb container\n"
     "  --shape FILE            the particle mesh, for packings of a mesh shape\n"
-    "                          (the one given to pack --shape; required for them)\n"
+    "                          (the one given to pack --shape; required for them);\n"
+    "                          a packing of several shapes: once per mesh shape, in\n"
+    "                          the order of its shapes metadata\n"
     "  --inside auto|closed|winding  how the inside of a mesh container is\n"
     "                          decided (default: the packing's, else auto)\n"
     "  --iso V                 a fog or density .vdb container: inside where the\n"
@@ -103,7 +105,9 @@ static int check_mask(vp_context *ctx, const char *mask, double voxel, vp_contai
 }
 
 int vp_cli_check(int argc, char **argv) {
-    const char *file = NULL, *cont = NULL, *grid = NULL, *shape_file = NULL, *mask = NULL;
+    const char *file = NULL, *cont = NULL, *grid = NULL, *mask = NULL;
+    const char *shape_files[VP_MAX_SHAPES] = {NULL};
+    int nshape_files = 0;
     char mask_meta[4096] = "";
     double mask_voxel = 0;
     int json = 0, quiet = 0, fit_set = 0, inside_set = 0, has_iso = 0;
@@ -152,9 +156,12 @@ int vp_cli_check(int argc, char **argv) {
         } else if (!strcmp(a, "--grid")) {
             NEED();
             grid = v;
-        } else if (!strcmp(a, "--shape")) {
-            NEED();
-            shape_file = v;
+        } else if (!strcmp(a, "--shape")) { /* once per mesh shape of a mixed set */
+            if (!v) return vp_cli_die(2, "check: %s needs a value", a);
+            i++;
+            if (nshape_files == VP_MAX_SHAPES)
+                return vp_cli_die(2, "%s: at most %d --shape options", "check", VP_MAX_SHAPES);
+            shape_files[nshape_files++] = v;
         } else if (!strcmp(a, "--mask")) {
             NEED();
             mask = v;
@@ -193,7 +200,7 @@ int vp_cli_check(int argc, char **argv) {
     int status = 1;
     vp_particles *p = NULL;
     vp_container *c = NULL, *base = NULL, *mask_c = NULL;
-    vp_mesh_shape *mesh = NULL;
+    vp_mesh_shape *meshes[VP_MAX_SHAPES] = {NULL};
     char *desc = NULL;
     if (vp_read_points(ctx, file, &p) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
@@ -254,7 +261,7 @@ int vp_cli_check(int argc, char **argv) {
         const char *sf = desc ? meta_value(desc, "shape_file") : NULL;
         char name[256] = "";
         if (sf && *sf == '"') sscanf(sf + 1, "%255[^\"]", name);
-        if ((status = vp_cli_attach_mesh(ctx, "check", file, name, shape_file, p, &mesh)) != 0)
+        if ((status = vp_cli_attach_mesh(ctx, "check", file, name, shape_files, nshape_files, p, meshes)) != 0)
             goto done;
         status = 1;
     }
@@ -373,7 +380,7 @@ int vp_cli_check(int argc, char **argv) {
 done:
     free(desc);
     vp_particles_destroy(p);
-    vp_mesh_shape_destroy(mesh);
+    for (int k = 0; k < VP_MAX_SHAPES; k++) vp_mesh_shape_destroy(meshes[k]);
     vp_container_destroy(c);
     vp_container_destroy(base); /* (after c, which borrows it and the mask) */
     vp_container_destroy(mask_c);

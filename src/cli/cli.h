@@ -64,7 +64,11 @@ int vp_cli_parse_size(const char *s, uint64_t *out);
 struct vp_size_dist;
 struct vp_rsa_pass;
 int vp_cli_parse_sizes(const char *opt, const char *text, struct vp_size_dist *out);
-int vp_cli_parse_pass(const char *text, struct vp_rsa_pass *out);
+/* Parses one --pass; a shape= that is no built-in name is a mesh file:
+ * its name in mesh_file (size mesh_len; "" for the others), loaded by the
+ * caller. */
+int vp_cli_parse_pass(const char *text, struct vp_rsa_pass *out, char *mesh_file,
+                      size_t mesh_len);
 /* SIGINT/SIGTERM handling (signals.c). install() once; interrupted() is
  * the signal received (0 if none); track_output() names a finished output
  * to remove if interrupted; done() once every output is final;
@@ -124,14 +128,16 @@ int vp_cli_write_particles(struct vp_context *ctx, const char *path, int format,
 struct vp_write_report;
 void vp_cli_print_promoted(const struct vp_write_report *w);
 /* For a packing p read from file by cmd: with a mesh shape, loads
- * shape_file (required; `recorded` is the name the file's metadata gives,
- * or "") into *mesh (owned by the caller) and points p->mesh at it; refuses
- * --shape for other shapes. 0, or the exit status after one line. */
+ * shape_files[0] (required; `recorded` is the name the file's metadata
+ * gives, or "") into meshes[0] and points p->mesh at it; a mixed set takes
+ * one file per mesh shape, in shape-index order. meshes: VP_MAX_SHAPES
+ * entries, owned by the caller (NULL where unused). Refuses --shape for
+ * other shapes. 0, or the exit status after one line. */
 struct vp_particles;
 struct vp_mesh_shape;
 int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file,
-                       const char *recorded, const char *shape_file, struct vp_particles *p,
-                       struct vp_mesh_shape **mesh);
+                       const char *recorded, const char *const *shape_files, int nfiles,
+                       struct vp_particles *p, struct vp_mesh_shape **meshes);
 /* The summary lines of a mesh container (pieces, how its inside was
  * decided and mended, the volume estimate), and the warning line on
  * stderr when its volume and the estimate differ by more than 5 %. */

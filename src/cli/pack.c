@@ -66,6 +66,13 @@ typedef struct pack_opts {
     int count_max;          /* rsa: --count max */
     vp_rsa_pass passes[VP_MAX_GROUPS];
     int npasses;
+    char pass_mesh_file[VP_MAX_GROUPS][1024]; /* --pass shape=FILE ("" for the others) */
+    vp_mesh_shape *pass_mesh[VP_MAX_GROUPS];  /* loaded from them (owned; NULL where a
+                                                 pass reuses an earlier one's) */
+    int pass_shapes;        /* some --pass has shape= */
+    int mixed;              /* the packing holds several shapes (VP_SHAPE_MIXED) */
+    char default_shape_text[300]; /* --shape's (a mesh: "mesh:NAME"), the shape of
+                                     the passes without their own */
     uint64_t retries;
     int grow;
     double target_fraction;
@@ -203,6 +210,40 @@ static int lib_error(vp_context *ctx) {
 
 /* --- option parsing -------------------------------------------------------- */
 
+/* 1 when some particle is not a sphere: --shape, or a --pass shape=. */
+static int any_solid(const pack_opts *o) {
+    if (o->shape != VP_SHAPE_SPHERE) return 1;
+    for (int i = 0; i < o->npasses; i++)
+        if (o->passes[i].own_shape && o->passes[i].shape.shape != VP_SHAPE_SPHERE) return 1;
+    return 0;
+}
+
+/* The --pass shape=FILE meshes (after --shape's, whose mesh a pass naming
+ * the same file shares): each file read once. 0, or the exit status after
+ * one line. */
+static int load_pass_shapes(vp_context *ctx, pack_opts *o) {
+    for (int i = 0; i < o->npasses; i++) {
+        const char *file = o->pass_mesh_file[i];
+        if (!file[0]) continue;
+        const vp_mesh_shape *m = NULL;
+        if (o->shape_file && !strcmp(o->shape_file, file)) m = o->mesh;
+        for (int k = 0; k < i && !m; k++)
+            if (!strcmp(o->pass_mesh_file[k], file)) m = o->passes[k].shape.mesh;
+        if (!m) {
+            struct stat st;
+            if (stat(file, &st) != 0)
+                return vp_cli_die(2, "pack: --pass %d: shape '%s' is no shape name (sphere, a "
+                                     "platonic or Archimedean solid, superball:P) and no file",
+                                  i + 1, file);
+            if (vp_mesh_shape_load(ctx, file, &o->pass_mesh[i]) != VP_OK)
+                return vp_cli_die(1, "pack: --pass %d: %s", i + 1, vp_context_message(ctx));
+            m = o->pass_mesh[i];
+        }
+        o->passes[i].shape.mesh = m;
+    }
+    return 0;
+}
+
 /* Which options go with which method, and defaults that depend on it. */
 static int check_method_options(pack_opts *o, int have_radius, int have_count) {
     const char *m = o->method;
@@ -217,9 +258,9 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
     if ((relax || jam) && o->shape != VP_SHAPE_SPHERE)
         return vp_cli_die(2, "pack: --method %s packs spheres in this version (--shape %s "
                              "needs --method lattice or rsa)", m, vp_shape_name(o->shape));
-    if ((o->orient >= 0 || o->overlap >= 0) && !(rsa && o->shape != VP_SHAPE_SPHERE))
+    if ((o->orient >= 0 || o->overlap >= 0) && !(rsa && any_solid(o)))
         return vp_cli_die(2, "pack: --orient and --overlap go with --method rsa and a --shape "
-                             "other than sphere");
+                             "(or a --pass shape=) other than sphere");
     if (o->overlap == VP_OVERLAP_BBOX && o->orient == VP_ORIENT_RANDOM)
         return vp_cli_die(2, "pack: --overlap bbox needs --orient fixed (the axis-aligned box "
                              "of a rotated solid does not bound it)");
@@ -299,6 +340,12 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
             return vp_cli_die(2, "pack: --margin and --gap pack spheres in this version, not "
                                  "--shape %s", o->shape_file ? o->shape_file
                                                               : vp_shape_name(o->shape));
+        if ((o->margin > 0 || o->gap > 0) && any_solid(o))
+            return vp_cli_die(2, "pack: --margin and --gap pack spheres in this version, not "
+                                 "passes of other shapes (--pass shape=)");
+        if (o->pass_shapes && o->overlap == VP_OVERLAP_BBOX)
+            return vp_cli_die(2, "pack: --overlap bbox takes one shape; passes with a shape= of "
+                                 "their own are tested exactly");
         for (int i = 0; i < o->npasses; i++) {
             if (o->gap > 0 && !o->rsa_count_radius && !(o->gap < vp_size_dist_min(&o->passes[i].radius)))
                 return vp_cli_die(2, "pack: --gap %g must be smaller than the smallest radius "
@@ -565,8 +612,10 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
     case OPT_PASS: {
         if (o->npasses >= VP_MAX_GROUPS)
             return vp_cli_die(2, "pack: at most %d --pass options", VP_MAX_GROUPS);
-        int rc = vp_cli_parse_pass(v, &o->passes[o->npasses]);
+        int rc = vp_cli_parse_pass(v, &o->passes[o->npasses], o->pass_mesh_file[o->npasses],
+                                   sizeof o->pass_mesh_file[o->npasses]);
         if (rc) return rc;
+        if (o->passes[o->npasses].own_shape) o->pass_shapes = 1;
         o->npasses++;
         break;
     }
@@ -1007,6 +1056,9 @@ static int check_field_options(pack_opts *o, int have_radius, const unsigned cha
         return vp_cli_die(2, "pack: --radius-field and --density-field pack spheres in this "
                              "version, not --shape %s",
                           o->shape_file ? o->shape_file : vp_shape_name(o->shape));
+    if (o->pass_shapes)
+        return vp_cli_die(2, "pack: --radius-field and --density-field pack spheres in this "
+                             "version, not passes with a shape= of their own");
     for (int i = 0; i < o->npasses; i++)
         if (o->passes[i].grow)
             return vp_cli_die(2, "pack: grow does not go with --radius-field or --density-field");
@@ -1324,9 +1376,15 @@ static void passes_text(const pack_opts *o, char *out, size_t outlen) {
         vp_size_dist_format(&ps->radius, sz, sizeof sz);
         if (ps->maximal) snprintf(cnt, sizeof cnt, "max");
         else snprintf(cnt, sizeof cnt, "%zu", ps->count);
-        int n = snprintf(out + at, outlen - at, "%scount=%s,radius=%s,retries=%d%s%s%s",
+        char sh[300] = "";
+        if (ps->own_shape && ps->shape.shape == VP_SHAPE_MESH)
+            snprintf(sh, sizeof sh, ",shape=%.280s", o->pass_mesh_file[i]);
+        else if (ps->own_shape)
+            vp_shape_format(ps->shape.shape, ps->shape.param,
+                            sh + snprintf(sh, sizeof sh, ",shape="), sizeof sh - 7);
+        int n = snprintf(out + at, outlen - at, "%scount=%s,radius=%s,retries=%d%s%s%s%s",
                          i ? ";" : "", cnt, sz, ps->retries ? ps->retries : VP_RSA_DEFAULT_RETRIES,
-                         ps->grow ? ",grow" : "", ps->name[0] ? ",name=" : "", ps->name);
+                         ps->grow ? ",grow" : "", ps->name[0] ? ",name=" : "", ps->name, sh);
         if (n < 0) break;
         at += (size_t)n;
         if (at >= outlen) break;
@@ -1339,6 +1397,23 @@ static int count_radius_too_small(const pack_opts *o, const char *about, double 
     return vp_cli_die(2, "pack: --count %llu in %s gives a radius of %s%g, below 1.2e-38 (radii "
                          "are stored as float): ask for fewer particles",
                       (unsigned long long)o->count, o->container, about, r);
+}
+
+/* A mixed set's particles per shape (counts[shape_index]); its shapes'
+ * names in names (split from vp_particles_shape_list). */
+static void shape_counts(const vp_particles *p, size_t *counts, char names[][300]) {
+    char list[4096];
+    vp_particles_shape_list(p, list, sizeof list);
+    unsigned k = 0;
+    for (char *a = list, *b; k < p->shape_count && k < VP_MAX_SHAPES; a = b + 1) {
+        b = strchr(a, ';');
+        if (b) *b = 0;
+        snprintf(names[k++], 300, "%.299s", a);
+        if (!b) break;
+    }
+    for (; k < VP_MAX_SHAPES; k++) names[k][0] = 0;
+    memset(counts, 0, VP_MAX_SHAPES * sizeof *counts);
+    for (size_t i = 0; i < p->count; i++) counts[p->shape_index[i]]++;
 }
 
 static void print_json(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
@@ -1379,6 +1454,18 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
         vp_cli_json_string(stdout, vp_mesh_shape_name(o->mesh));
         printf(",\"shape_triangles\":%zu", vp_mesh_shape_triangles(o->mesh));
     }
+    if (o->mixed) { /* the "shape" attribute's values, in order */
+        size_t counts[VP_MAX_SHAPES];
+        char names[VP_MAX_SHAPES][300];
+        shape_counts(p, counts, names);
+        printf(",\"shapes\":[");
+        for (unsigned k = 0; k < p->shape_count; k++) {
+            printf("%s{\"shape\":", k ? "," : "");
+            vp_cli_json_string(stdout, names[k]);
+            printf(",\"count\":%zu}", counts[k]);
+        }
+        printf("]");
+    }
     printf(",\"count\":%zu,\"requested_count\":%llu,\"packing_fraction\":%.17g", p->count,
            (unsigned long long)o->count, fraction);
     {
@@ -1408,10 +1495,21 @@ static void print_json(const pack_opts *o, const vp_container_info *ci, const vp
             const vp_rsa_pass_report *pr = &rr->rsa.passes[i];
             char sz[256];
             vp_size_dist_format(&o->passes[i].radius, sz, sizeof sz);
-            printf("%s{\"group\":\"%s\",\"radius\":\"%s\",\"requested\":%zu,\"maximal\":%s,"
+            char psh[300];
+            if (o->passes[i].own_shape && o->passes[i].shape.shape == VP_SHAPE_MESH)
+                snprintf(psh, sizeof psh, "mesh:%.280s",
+                         vp_mesh_shape_name(o->passes[i].shape.mesh));
+            else if (o->passes[i].own_shape)
+                vp_shape_format(o->passes[i].shape.shape, o->passes[i].shape.param, psh,
+                                sizeof psh);
+            else
+                snprintf(psh, sizeof psh, "%s", o->default_shape_text);
+            printf("%s{\"shape\":", i ? "," : "");
+            vp_cli_json_string(stdout, psh);
+            printf(",\"group\":\"%s\",\"radius\":\"%s\",\"requested\":%zu,\"maximal\":%s,"
                    "\"placed\":%zu,\"stop\":\"%s\",\"tries\":%llu,\"cell_budget_reached\":%s,"
                    "\"short\":%s,\"grow\":%s,\"grow_mean\":%.17g,\"seconds\":%.6f}",
-                   i ? "," : "", p->group_names[i], sz, pr->requested,
+                   p->group_names[i], sz, pr->requested,
                    o->passes[i].maximal ? "true" : "false", pr->placed, stop_name(pr->stop),
                    (unsigned long long)pr->tries, pr->budget_hit ? "true" : "false",
                    !o->passes[i].maximal && pr->placed < pr->requested ? "true" : "false",
@@ -1464,6 +1562,22 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                : !strcmp(o->method, "jam") ? "jamming (random close packing)"
                                            : "relaxation",
                o->container);
+    if (o->mixed) {
+        size_t counts[VP_MAX_SHAPES];
+        char names[VP_MAX_SHAPES][300];
+        shape_counts(p, counts, names);
+        printf("  shapes:");
+        for (unsigned k = 0; k < p->shape_count; k++) {
+            vp_shape_ref r = p->shapes[k];
+            char what_k[96];
+            vp_cli_shape_count(what_k, sizeof what_k, counts[k], r.shape);
+            printf("%s %s", k ? "," : "", what_k);
+            if (r.shape == VP_SHAPE_MESH || r.shape == VP_SHAPE_SUPERBALL)
+                printf(" (%s)", r.shape == VP_SHAPE_MESH ? vp_mesh_shape_name(r.mesh) : names[k]);
+            printf(" [shape %u]", k);
+        }
+        printf("\n");
+    }
     if (ci->kind == VP_CONTAINER_MESH)
         vp_cli_print_mesh_container(stdout, ci);
     else if (ci->kind == VP_CONTAINER_LEVEL_SET)
@@ -1508,8 +1622,8 @@ static void print_summary(const pack_opts *o, const vp_container_info *ci, const
                        "docs/fields.md)",
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (o->passes[i].maximal && o->shape != VP_SHAPE_SPHERE)
-                printf(" (maximal mode for solids: stopped by %d failed tries in a row, see "
-                       "docs/rsa.md)",
+                printf(" (maximal mode for %s: stopped by %d failed tries in a row, see "
+                       "docs/rsa.md)", o->mixed ? "several shapes" : "solids",
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (o->passes[i].maximal)
                 printf(" (maximal mode stopped by %d failed tries in a row: refining the empty "
@@ -1619,6 +1733,7 @@ int vp_cli_pack(int argc, char **argv) {
         }
         o.mesh = mesh;
     }
+    if ((status = load_pass_shapes(ctx, &o)) != 0) goto done;
     if ((status = load_fields(ctx, &o)) != 0) goto done;
     status = 1;
     int an = vp_cli_analytic_container(ctx, o.container, &c);
@@ -1692,6 +1807,17 @@ int vp_cli_pack(int argc, char **argv) {
         status = count_radius_too_small(&o, "", rr.lat.radius);
         goto done;
     }
+    if (o.mesh) snprintf(o.default_shape_text, sizeof o.default_shape_text, "mesh:%.280s",
+                         vp_mesh_shape_name(o.mesh));
+    else snprintf(o.default_shape_text, sizeof o.default_shape_text, "%s", o.shape_text);
+    if (o.pass_shapes) { /* the shapes are those the passes made */
+        o.mixed = p->shape == VP_SHAPE_MIXED;
+        o.shape = p->shape;
+        o.shape_param = p->shape_param;
+        o.mesh = p->mesh;
+        if (o.mixed) snprintf(o.shape_text, sizeof o.shape_text, "mixed");
+        else vp_shape_format(o.shape, o.shape_param, o.shape_text, sizeof o.shape_text);
+    }
     double fraction = ci.volume > 0 ? vp_particles_volume(p) / ci.volume : 0.0;
 
     if (o.save_container) {
@@ -1704,8 +1830,9 @@ int vp_cli_pack(int argc, char **argv) {
         vp_cli_signals_track_output(o.save_container);
     }
     if (o.shape_out) {
-        if ((o.mesh ? vp_mesh_shape_write_obj(ctx, o.mesh, o.shape_out)
-                    : vp_shape_write_obj_param(ctx, o.shape, o.shape_param, o.shape_out)) !=
+        if ((o.mixed  ? vp_particles_write_shapes_obj(ctx, p, o.shape_out)
+             : o.mesh ? vp_mesh_shape_write_obj(ctx, o.mesh, o.shape_out)
+                      : vp_shape_write_obj_param(ctx, o.shape, o.shape_param, o.shape_out)) !=
             VP_OK) {
             status = lib_error(ctx);
             goto done;
@@ -1721,7 +1848,7 @@ int vp_cli_pack(int argc, char **argv) {
     join_args(argc, argv, cmdline, sizeof cmdline);
     const char *cname = strrchr(o.container, '/');
     cname = cname ? cname + 1 : o.container;
-    vp_meta meta[32] = {
+    vp_meta meta[40] = {
         {"creator", VP_META_STRING, "vdbpack " VP_VERSION_STRING, 0, 0},
         {"command_line", VP_META_STRING, cmdline, 0, 0},
         {"seed", VP_META_INT, NULL, (int64_t)o.seed, 0},
@@ -1737,6 +1864,10 @@ int vp_cli_pack(int argc, char **argv) {
     };
     size_t nmeta = 12;
     if (o.mesh) meta[nmeta++] = (vp_meta){"shape_file", VP_META_STRING, vp_mesh_shape_name(o.mesh), 0, 0};
+    char shape_list[4096];
+    if (o.mixed)
+        meta[nmeta++] = (vp_meta){"shapes", VP_META_STRING,
+                                  vp_particles_shape_list(p, shape_list, sizeof shape_list), 0, 0};
     if (ci.kind == VP_CONTAINER_MESH)
         meta[nmeta++] = (vp_meta){"inside", VP_META_STRING, vp_inside_name(o.inside), 0, 0};
     if (o.has_iso) meta[nmeta++] = (vp_meta){"iso", VP_META_DOUBLE, NULL, 0, o.iso};
@@ -1856,6 +1987,7 @@ done:
     if (prog.shown && status) fprintf(stderr, "\r%*s\r", 96, "");
     vp_particles_destroy(p);
     vp_mesh_shape_destroy(mesh);
+    for (int i = 0; i < o.npasses; i++) vp_mesh_shape_destroy(o.pass_mesh[i]);
     vp_container_destroy(c);
     vp_container_destroy(o.fields.base); /* (after c, which borrows them) */
     vp_container_destroy(o.fields.mask_c);

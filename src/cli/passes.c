@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Parsing of the random packers' options: sizes (a radius or a
  * distribution) and `--pass count=N|max,radius=R|DIST[,retries=K][,grow]
- * [,name=NAME]`. Errors print one line and return the exit status 2. */
+ * [,name=NAME][,shape=SHAPE]`. Errors print one line and return the exit
+ * status 2. */
 #include "vdbpack/vdbpack.h"
 
 #include <stdio.h>
@@ -30,14 +31,16 @@ static int valid_group_name(const char *s) {
     return 1;
 }
 
-int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
+int vp_cli_parse_pass(const char *text, vp_rsa_pass *out, char *mesh_file, size_t mesh_len) {
     vp_rsa_pass_init(out);
+    mesh_file[0] = 0;
     char buf[1024];
     if (strlen(text) >= sizeof buf) return vp_cli_die(2, "pack: --pass '%.40s...' is too long", text);
     strcpy(buf, text);
     /* fields split by hand: strtok would skip empty ones ("a,,b", a trailing comma) */
-    static const char *const fields[] = {"count", "radius", "retries", "grow", "name"};
-    int seen[5] = {0}; /* count and radius are required, each field allowed once */
+    static const char *const fields[] = {"count", "radius", "retries", "grow", "name", "shape"};
+    enum { NFIELDS = 6 };
+    int seen[NFIELDS] = {0}; /* count and radius are required, each field allowed once */
     for (char *tok = buf, *next; tok; tok = next) {
         next = strchr(tok, ',');
         if (next) *next++ = 0;
@@ -46,10 +49,10 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
         const char *val = eq ? eq + 1 : NULL;
         if (eq) *eq = 0;
         int f = 0;
-        while (f < 5 && strcmp(tok, fields[f])) f++;
-        if (f == 5)
+        while (f < NFIELDS && strcmp(tok, fields[f])) f++;
+        if (f == NFIELDS)
             return vp_cli_die(2, "pack: --pass '%s': unknown field '%s' (count, radius, retries, "
-                                 "grow, name)", text, tok);
+                                 "grow, name, shape)", text, tok);
         if (seen[f]++) return vp_cli_die(2, "pack: --pass '%s': %s is given twice", text, tok);
         if (!strcmp(tok, "count")) {
             uint64_t n;
@@ -81,6 +84,26 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out) {
                 return vp_cli_die(2, "pack: --pass '%s': name must be 1-31 letters, digits or "
                                      "_, not starting with __", text);
             snprintf(out->name, sizeof out->name, "%s", val);
+        } else if (!strcmp(tok, "shape")) {
+            /* a built-in name or superball:P, else a mesh file (read
+             * before packing: a missing one fails there, with its name) */
+            if (!val || !*val)
+                return vp_cli_die(2, "pack: --pass '%s': shape needs a value (a shape name, "
+                                     "superball:P or a closed mesh file)", text);
+            out->own_shape = 1;
+            int sr = vp_shape_parse_param(val, &out->shape.shape, &out->shape.param);
+            if (sr == -2)
+                return vp_cli_die(2, "pack: --pass '%s': a superball's exponent P must be a "
+                                     "number in [0.5, 1000] (concave superballs, P < 0.5, are "
+                                     "not offered)", text);
+            if (sr != 0) {
+                if (strlen(val) >= mesh_len)
+                    return vp_cli_die(2, "pack: --pass '%s': the shape's file name is too long",
+                                      text);
+                out->shape.shape = VP_SHAPE_MESH;
+                out->shape.param = 0.0;
+                snprintf(mesh_file, mesh_len, "%s", val);
+            }
         }
     }
     if (!seen[0] || !seen[1])

@@ -36,13 +36,22 @@ const char *VP_RENDER_HELP =
     "                          crossing the plane show their cut faces\n"
     "  --ao N                  ambient-occlusion rays per pixel (default 8, 0..64)\n"
     "  --shape FILE            the particle mesh, for packings of a mesh shape (the\n"
-    "                          one given to pack --shape; required for them)\n"
+    "                          one given to pack --shape; required for them); a\n"
+    "                          packing of several shapes: once per mesh shape, in\n"
+    "                          the order of its shapes metadata\n"
     "  --threads N             worker threads (default: all cores); the image does\n"
     "                          not depend on it\n"
     "  -q, --quiet             print nothing but errors\n"
     "  -h, --help              this text\n";
 
 /* "WxH" with both sides positive whole numbers (the range is vp_render's). */
+/* 1 when out is one of files[0..n). */
+static int same_as_any(const char *out, const char *const *files, int n) {
+    for (int k = 0; k < n; k++)
+        if (vp_cli_same_file(out, files[k])) return 1;
+    return 0;
+}
+
 static int parse_size(const char *s, int *w, int *h) {
     char *end;
     long a = strtol(s, &end, 10);
@@ -126,7 +135,8 @@ static int on_progress(void *user, double fraction, const char *stage) {
 }
 
 int vp_cli_render(int argc, char **argv) {
-    const char *file = NULL, *out = NULL, *shape_file = NULL;
+    const char *file = NULL, *out = NULL, *shape_files[VP_MAX_SHAPES] = {NULL};
+    int nshape_files = 0;
     int quiet = 0, view_set = 0, camera_set = 0;
     uint64_t threads = 0;
     vp_render_params rp;
@@ -185,9 +195,12 @@ int vp_cli_render(int argc, char **argv) {
             if (parse_cut(v, &rp) != 0)
                 return vp_cli_die(2, "render: --cut must be AXIS:VALUE with AXIS x, y or z "
                                      "(e.g. x:0.5), not '%s'", v);
-        } else if (!strcmp(a, "--shape")) {
-            NEED();
-            shape_file = v;
+        } else if (!strcmp(a, "--shape")) { /* once per mesh shape of a mixed set */
+            if (!v) return vp_cli_die(2, "render: %s needs a value", a);
+            i++;
+            if (nshape_files == VP_MAX_SHAPES)
+                return vp_cli_die(2, "%s: at most %d --shape options", "render", VP_MAX_SHAPES);
+            shape_files[nshape_files++] = v;
         } else if (!strcmp(a, "--ao")) {
             NEED();
             uint64_t n;
@@ -216,7 +229,7 @@ int vp_cli_render(int argc, char **argv) {
     int rc = vp_cli_preview_path_check("render: -o", out);
     if (rc) return rc;
     /* by the file each resolves to: a.png can be a link to the packing */
-    if (vp_cli_same_file(out, file) || (shape_file && vp_cli_same_file(out, shape_file)))
+    if (vp_cli_same_file(out, file) || same_as_any(out, shape_files, nshape_files))
         return vp_cli_die(2, "render: -o %s is the %s itself: writing would replace it", out,
                           vp_cli_same_file(out, file) ? "packing it renders" : "--shape mesh");
 
@@ -229,7 +242,7 @@ int vp_cli_render(int argc, char **argv) {
     vp_context_set_progress(ctx, on_progress, NULL);
     int status = 1;
     vp_particles *p = NULL;
-    vp_mesh_shape *mesh = NULL;
+    vp_mesh_shape *meshes[VP_MAX_SHAPES] = {NULL};
     if (vp_read_points(ctx, file, &p) != VP_OK) {
         status = vp_cli_die(1, "%s", vp_context_message(ctx));
         goto done;
@@ -238,7 +251,7 @@ int vp_cli_render(int argc, char **argv) {
         status = vp_cli_die(1, "%s: the points grid holds no particles: nothing to render", file);
         goto done;
     }
-    if ((status = vp_cli_attach_mesh(ctx, "render", file, "", shape_file, p, &mesh)) != 0)
+    if ((status = vp_cli_attach_mesh(ctx, "render", file, "", shape_files, nshape_files, p, meshes)) != 0)
         goto done;
     status = 1;
     status = vp_cli_finish_output(ctx, vp_cli_render_particles(ctx, p, &rp, out) != 0, out);
@@ -251,7 +264,7 @@ int vp_cli_render(int argc, char **argv) {
     if ((status = vp_cli_flush_stdout(0)) != 0) vp_remove_output(out);
 done:
     vp_particles_destroy(p);
-    vp_mesh_shape_destroy(mesh);
+    for (int k = 0; k < VP_MAX_SHAPES; k++) vp_mesh_shape_destroy(meshes[k]);
     vp_context_destroy(ctx);
     return status;
 }

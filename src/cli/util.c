@@ -101,12 +101,15 @@ const char *vp_cli_shape_plural(int shape) {
     case VP_SHAPE_SNUB_DODECAHEDRON: return "snub dodecahedra";
     case VP_SHAPE_MESH: return "mesh shapes";
     case VP_SHAPE_SUPERBALL: return "superballs";
+    case VP_SHAPE_MIXED: return "particles of several shapes";
     default: return "particles";
     }
 }
 
 int vp_cli_shape_count(char *buf, size_t len, size_t count, int shape) {
-    const char *one = shape == VP_SHAPE_MESH ? "mesh shape" : vp_shape_name((vp_shape)shape);
+    const char *one = shape == VP_SHAPE_MESH    ? "mesh shape"
+                      : shape == VP_SHAPE_MIXED ? "particle"
+                                                : vp_shape_name((vp_shape)shape);
     return snprintf(buf, len, "%zu %s", count, count == 1 ? one : vp_cli_shape_plural(shape));
 }
 
@@ -282,9 +285,39 @@ int vp_cli_analytic_container(vp_context *ctx, const char *spec, vp_container **
 
 
 int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file,
-                       const char *recorded, const char *shape_file, struct vp_particles *p,
-                       struct vp_mesh_shape **mesh) {
-    *mesh = NULL;
+                       const char *recorded, const char *const *shape_files, int nfiles,
+                       struct vp_particles *p, struct vp_mesh_shape **meshes) {
+    for (int k = 0; k < VP_MAX_SHAPES; k++) meshes[k] = NULL;
+    if (p->shape == VP_SHAPE_MIXED) { /* its mesh shapes, in shape-index order */
+        int want = 0;
+        for (unsigned k = 0; k < p->shape_count; k++)
+            want += p->shapes[k].shape == VP_SHAPE_MESH && !p->shapes[k].mesh;
+        if (nfiles != want) {
+            if (!want)
+                return vp_cli_die(2, "%s: --shape is for packings with mesh shapes; %s holds "
+                                     "none", cmd, file);
+            return vp_cli_die(2, "%s: %s holds %d mesh shape%s: give %s with --shape FILE, in "
+                                 "the order of its shapes (%d given)",
+                              cmd, file, want, want == 1 ? "" : "s", want == 1 ? "it" : "them",
+                              nfiles);
+        }
+        int f = 0;
+        for (unsigned k = 0; k < p->shape_count; k++) {
+            if (p->shapes[k].shape != VP_SHAPE_MESH || p->shapes[k].mesh) continue;
+            if (vp_mesh_shape_load(ctx, shape_files[f], &meshes[f]) != VP_OK)
+                return vp_cli_die(1, "%s", vp_context_message(ctx));
+            const char *base = strrchr(shape_files[f], '/');
+            base = base ? base + 1 : shape_files[f];
+            if (p->shape_names[k][0] && strncmp(base, p->shape_names[k], VP_SHAPE_NAME_MAX) != 0)
+                fprintf(stderr, "vdbpack: warning: %s: shape %u was the mesh shape '%.*s', not "
+                                "'%s'\n", file, k, VP_SHAPE_NAME_MAX, p->shape_names[k], base);
+            p->shapes[k].mesh = meshes[f++];
+        }
+        return 0;
+    }
+    const char *shape_file = nfiles ? shape_files[0] : NULL;
+    if (nfiles > 1)
+        return vp_cli_die(2, "%s: %s holds one shape: one --shape at most", cmd, file);
     if (p->shape == VP_SHAPE_MESH && !shape_file)
         return vp_cli_die(2, "%s: %s holds particles of a mesh shape%s%s%s: give the mesh with "
                              "--shape FILE", cmd, file, recorded[0] ? " (" : "", recorded,
@@ -293,9 +326,9 @@ int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file
         return vp_cli_die(2, "%s: --shape is for packings of a mesh shape; %s holds %s", cmd,
                           file, vp_cli_shape_plural(p->shape));
     if (!shape_file) return 0;
-    if (vp_mesh_shape_load(ctx, shape_file, mesh) != VP_OK)
+    if (vp_mesh_shape_load(ctx, shape_file, &meshes[0]) != VP_OK)
         return vp_cli_die(1, "%s", vp_context_message(ctx));
-    p->mesh = *mesh;
+    p->mesh = meshes[0];
     /* the file records the mesh's name only: another name is likely the
      * wrong mesh (check then reports its overlaps, render draws it) */
     const char *base = strrchr(shape_file, '/');

@@ -9,6 +9,7 @@
 #include "core/geom.h"
 #include "core/sgrid.h"
 #include "core/mesh_shape.h"
+#include "core/pair.h"
 #include "core/shape.h"
 #include "core/superball.h"
 
@@ -35,10 +36,41 @@ typedef struct chk {
     double slack;       /* 2 x position error (world) */
     size_t i;
     vp_check_report *rep;
+    const vp_kind *kinds; /* a mixed set: its shapes (else NULL) */
 } chk;
 
 static void orient_of(const vp_particles *p, size_t i, double q[4]) {
     vp_quat_from_float(p->orients ? p->orients + 4 * i : p->uniform_orient, q);
+}
+
+/* A pair of a mixed set: the gap (< 0: minus the overlap's depth; 0 a
+ * contact; HUGE_VAL apart) from vp_kind_overlap, the one test of every
+ * pairing, as the superballs' below: the largest common shrink g about
+ * both centres that parts them gives the depth d (1 - g) / g. */
+static double mixed_gap(const chk *q, size_t i, size_t j, double *scale) {
+    const vp_particles *p = q->p;
+    const vp_kind *ka = &q->kinds[p->shape_index[i]], *kb = &q->kinds[p->shape_index[j]];
+    const double *xi = p->positions + 3 * i, *xj = p->positions + 3 * j;
+    double ri = q->r[i], rj = q->r[j], d2 = 0.0;
+    for (int k = 0; k < 3; k++) d2 += (xi[k] - xj[k]) * (xi[k] - xj[k]);
+    double d = sqrt(d2);
+    if (!ka->poly && !ka->mesh && ka->shape == VP_SHAPE_SPHERE && kb->shape == VP_SHAPE_SPHERE) {
+        *scale = ri + rj;
+        return d - ri - rj;
+    }
+    double qa[4], qb[4], g = 1.0 + q->prm->contact_tolerance;
+    orient_of(p, i, qa);
+    orient_of(p, j, qb);
+    *scale = ri < rj ? ri : rj;
+    if (vp_kind_overlap(ka, ri, qa, xi, kb, rj, qb, xj)) {
+        double lo = 0.0, hi = 1.0;
+        for (int it = 0; it < 60; it++) {
+            double m = 0.5 * (lo + hi);
+            if (vp_kind_overlap(ka, ri * m, qa, xi, kb, rj * m, qb, xj)) hi = m; else lo = m;
+        }
+        return lo > 0 ? -d * (1.0 - lo) / lo : -(ri + rj);
+    }
+    return vp_kind_overlap(ka, ri * g, qa, xi, kb, rj * g, qb, xj) ? 0.0 : HUGE_VAL;
 }
 
 static int pair_visit(void *user, uint32_t j) {
@@ -51,7 +83,9 @@ static int pair_visit(void *user, uint32_t j) {
     double reach = e * (1.0 + q->prm->contact_tolerance) + q->slack + q->prm->gap;
     if (d2 >= reach * reach) return 0;
     double gap, scale;
-    if (q->sb > 0) {
+    if (q->kinds) {
+        gap = mixed_gap(q, q->i, j, &scale);
+    } else if (q->sb > 0) {
         /* GJK on the support functions; the depth of an overlap from the
          * largest common shrink g of both about their centres that parts
          * them: d (1 - g) / g, which is r_i + r_j - d for spheres */
@@ -151,10 +185,28 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     rep.container_volume = c->info.volume;
     const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
     const vp_mesh_shape *mesh = p->shape == VP_SHAPE_MESH ? p->mesh : NULL;
+    vp_kind kinds[VP_MAX_SHAPES];
+    if (p->shape == VP_SHAPE_MIXED) {
+        if (!p->shape_index || p->shape_count < 1 || p->shape_count > VP_MAX_SHAPES)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "check: a mixed set needs its shape indices and 1..%d shapes",
+                           VP_MAX_SHAPES);
+        for (unsigned k = 0; k < p->shape_count; k++)
+            if (vp_kind_set(&kinds[k], p->shapes[k]) != 0)
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               p->shapes[k].shape == VP_SHAPE_MESH
+                                   ? "check: shape %u of the set is a mesh shape: the mesh is needed"
+                                   : "check: shape %u of the set is not a valid shape", k);
+        for (size_t i = 0; i < p->count; i++)
+            if (p->shape_index[i] >= p->shape_count)
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               "check: particle %zu has shape %u of %u", i,
+                               (unsigned)p->shape_index[i], p->shape_count);
+    }
     if (p->shape == VP_SHAPE_MESH && !mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "check: the particles are of a mesh shape: the mesh is needed");
-    const double sb = p->shape == VP_SHAPE_SUPERBALL ? p->shape_param : 0.0;
+    double sb = p->shape == VP_SHAPE_SUPERBALL ? p->shape_param : 0.0;
     if (p->shape == VP_SHAPE_SUPERBALL && !(sb >= VP_SUPERBALL_P_MIN && sb <= VP_SUPERBALL_P_MAX))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "check: a superball's exponent must be in [0.5, 1000], not %g", sb);
@@ -206,7 +258,8 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
                 return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory for the grid");
             }
         }
-        chk q = {p, poly, mesh, sb, params, r, 2.0 * e, 0, &rep};
+        chk q = {p, poly, mesh, sb, params, r, 2.0 * e, 0, &rep,
+                 p->shape == VP_SHAPE_MIXED ? kinds : NULL};
         for (size_t i = 0; i < n; i++) {
             q.i = i;
             double reach = r[i] * (1.0 + params->contact_tolerance) + 2.0 * e +
@@ -229,6 +282,13 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         }
         const double *x = p->positions + 3 * i;
         double v;
+        if (p->shape == VP_SHAPE_MIXED) { /* this particle's shape */
+            const vp_kind *k = &kinds[p->shape_index[i]];
+            vp_shape_ref ref = p->shapes[p->shape_index[i]];
+            sb = ref.shape == VP_SHAPE_SUPERBALL ? ref.param : 0.0;
+            mesh = k->mesh;
+            poly = k->poly;
+        }
         if (params->fit == VP_FIT_CENTER) {
             v = vp_container_distance(c, x);
         } else if (sb > 0) {

@@ -9,6 +9,7 @@
 #include "core/context.h"
 #include "core/geom.h"
 #include "core/shape.h"
+#include "core/superball.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -333,6 +334,9 @@ int vp_mesh_shape_ray(const vp_mesh_shape *m, const double o[3], const double d[
     return 1;
 }
 
+static void place(const vp_mesh_shape *m, const double R[3][3], double scale, const double t[3],
+                  uint32_t v, double x[3]);
+
 /* --- overlap of two placed copies ---------------------------------------------------- */
 
 typedef struct pair_frame {
@@ -366,7 +370,8 @@ static void make_frame(double sa, const double qa[4], const double ta[3], double
 }
 
 /* 1 if some triangle pair crosses; with depth, the deepest (A units). */
-static int crossing(const vp_mesh_shape *m, const pair_frame *f, double *depth) {
+static int crossing(const vp_mesh_shape *ma, const vp_mesh_shape *mb, const pair_frame *f,
+                    double *depth) {
     struct {
         uint32_t a, b;
     } stack[256];
@@ -376,7 +381,7 @@ static int crossing(const vp_mesh_shape *m, const pair_frame *f, double *depth) 
     int found = 0;
     while (sp) {
         sp--;
-        const vp_bvh_node *A = &m->nodes[stack[sp].a], *B = &m->nodes[stack[sp].b];
+        const vp_bvh_node *A = &ma->nodes[stack[sp].a], *B = &mb->nodes[stack[sp].b];
         uint32_t ia = stack[sp].a, ib = stack[sp].b;
         double cb[3], hb[3], c2[3];
         for (int k = 0; k < 3; k++) {
@@ -395,14 +400,14 @@ static int crossing(const vp_mesh_shape *m, const pair_frame *f, double *depth) 
         if (A->count && B->count) {
             double at[4][3][3]; /* A's leaf triangles (at most 4), once per leaf pair */
             for (uint32_t i = 0; i < A->count; i++) {
-                const uint32_t *ta = m->tris + 3 * (size_t)m->order[A->first + i];
+                const uint32_t *ta = ma->tris + 3 * (size_t)ma->order[A->first + i];
                 for (int v = 0; v < 3; v++)
-                    memcpy(at[i][v], m->verts + 3 * (size_t)ta[v], sizeof at[i][v]);
+                    memcpy(at[i][v], ma->verts + 3 * (size_t)ta[v], sizeof at[i][v]);
             }
             for (uint32_t j = 0; j < B->count; j++) {
-                const uint32_t *tb = m->tris + 3 * (size_t)m->order[B->first + j];
+                const uint32_t *tb = mb->tris + 3 * (size_t)mb->order[B->first + j];
                 double bt[3][3];
-                for (int v = 0; v < 3; v++) to_a(f, m->verts + 3 * (size_t)tb[v], bt[v]);
+                for (int v = 0; v < 3; v++) to_a(f, mb->verts + 3 * (size_t)tb[v], bt[v]);
                 for (uint32_t i = 0; i < A->count; i++) {
                     double g = tri_tri_gap((const double(*)[3])at[i], (const double(*)[3])bt);
                     if (g < 0) {
@@ -436,29 +441,80 @@ static int crossing(const vp_mesh_shape *m, const pair_frame *f, double *depth) 
 int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
                           const double ta[3], double sb, const double qb[4], const double tb[3],
                           double *depth) {
+    return vp_mesh_shape_overlap2(m, sa, qa, ta, m, sb, qb, tb, depth);
+}
+
+int vp_mesh_shape_overlap2(const vp_mesh_shape *ma, double sa, const double qa[4],
+                           const double ta[3], const vp_mesh_shape *mb, double sb,
+                           const double qb[4], const double tb[3], double *depth) {
     if (depth) *depth = 0.0;
     pair_frame f;
     make_frame(sa, qa, ta, sb, qb, tb, &f);
     double dep = 0.0;
-    if (crossing(m, &f, depth ? &dep : NULL)) {
+    if (crossing(ma, mb, &f, depth ? &dep : NULL)) {
         if (depth) *depth = dep * sa;
         return 1;
     }
     /* no surfaces cross: overlap only if one holds a component of the other */
-    double s = sa < sb ? sa : sb, inner = s * (m->inradius > 0 ? m->inradius : 1e-3);
+    double ia = sa * (ma->inradius > 0 ? ma->inradius : 1e-3),
+           ib = sb * (mb->inradius > 0 ? mb->inradius : 1e-3), inner = ia < ib ? ia : ib;
     pair_frame g; /* A in B's frame */
     make_frame(sb, qb, tb, sa, qa, ta, &g);
-    const pair_frame *frames[2] = {&f, &g}; /* B's components in A, then A's in B */
+    /* B's components in A, then A's in B */
+    const pair_frame *frames[2] = {&f, &g};
+    const vp_mesh_shape *held[2] = {mb, ma}, *holder[2] = {ma, mb};
     for (int k = 0; k < 2; k++)
-        for (size_t r = 0; r < m->nreps; r++) {
+        for (size_t r = 0; r < held[k]->nreps; r++) {
             double p[3];
-            to_a(frames[k], m->verts + 3 * (size_t)m->reps[r], p);
-            if (vp_mesh_shape_contains(m, p)) {
+            to_a(frames[k], held[k]->verts + 3 * (size_t)held[k]->reps[r], p);
+            if (vp_mesh_shape_contains(holder[k], p)) {
                 if (depth) *depth = inner;
                 return 1;
             }
         }
     return 0;
+}
+
+int vp_mesh_shape_overlap_convex(const vp_mesh_shape *m, double s, const double q[4],
+                                 const double t[3], const vp_convex *c, const double c_centre[3],
+                                 double c_radius) {
+    double R[3][3];
+    vp_quat_to_matrix(q, R);
+    /* the convex's bounding ball in the mesh's unit frame: R^T (x - t) / s */
+    double u[3], d[3] = {c_centre[0] - t[0], c_centre[1] - t[1], c_centre[2] - t[2]};
+    for (int k = 0; k < 3; k++) u[k] = (R[0][k] * d[0] + R[1][k] * d[1] + R[2][k] * d[2]) / s;
+    double ru = c_radius / s * (1.0 + 1e-12) + 1e-15;
+    uint32_t stack[128];
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp) {
+        const vp_bvh_node *n = &m->nodes[stack[--sp]];
+        double e2 = 0.0; /* the ball against the node's box */
+        for (int k = 0; k < 3; k++) {
+            double e = u[k] < n->lo[k] ? n->lo[k] - u[k] : u[k] > n->hi[k] ? u[k] - n->hi[k] : 0.0;
+            e2 += e * e;
+        }
+        if (e2 > ru * ru) continue;
+        if (!n->count) {
+            if (sp + 2 > 128) continue; /* depth of a median-split tree: cannot happen */
+            stack[sp++] = n->first;
+            stack[sp++] = n->first + 1;
+            continue;
+        }
+        for (uint32_t i = 0; i < n->count; i++) {
+            const uint32_t *tri = m->tris + 3 * (size_t)m->order[n->first + i];
+            double w[3][3];
+            for (int v = 0; v < 3; v++) place(m, (const double(*)[3])R, s, t, tri[v], w[v]);
+            /* relative to the convex's own origin: c->t is c_centre there */
+            double o[3] = {c_centre[0] - c->t[0], c_centre[1] - c->t[1], c_centre[2] - c->t[2]};
+            vp_convex T;
+            vp_convex_set_triangle(&T, w[0], w[1], w[2], o);
+            if (vp_convex_overlap(c, &T)) return 1;
+        }
+    }
+    /* no face meets it: it overlaps only if it lies inside the mesh (a
+     * mesh wholly inside the convex has faces inside it, found above) */
+    return vp_mesh_shape_contains(m, u);
 }
 
 /* --- the wall ------------------------------------------------------------------------ */

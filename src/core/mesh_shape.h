@@ -56,6 +56,22 @@ int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
                           const double ta[3], double sb, const double qb[4], const double tb[3],
                           double *depth);
 
+/* The same for copies of two meshes (ma at (sa, qa, ta), mb at (sb, qb,
+ * tb)); vp_mesh_shape_overlap is this with ma == mb. */
+int vp_mesh_shape_overlap2(const vp_mesh_shape *ma, double sa, const double qa[4],
+                           const double ta[3], const vp_mesh_shape *mb, double sb,
+                           const double qb[4], const double tb[3], double *depth);
+
+/* 1 if the mesh m placed at (s, q, t) and the convex shape c (superball.h:
+ * a sphere, superball or polyhedron, posed with its centre at c_centre in
+ * world coordinates and lying in the ball of radius c_radius about it)
+ * overlap: a face of m meets c (GJK, triangle against c), or c's centre
+ * lies inside m. */
+struct vp_convex;
+int vp_mesh_shape_overlap_convex(const vp_mesh_shape *m, double s, const double q[4],
+                                 const double t[3], const struct vp_convex *c,
+                                 const double c_centre[3], double c_radius);
+
 /* Nearest crossing of the ray o + t d (unit-shape coordinates, d of any
  * length) with the surface for tmin < t < tmax: 1 with *t_hit and the
  * triangle's outward unit normal (unit-shape frame), or 0. */

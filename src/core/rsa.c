@@ -33,6 +33,7 @@
 #include "core/rsa_top.h"
 #include "core/sgrid.h"
 #include "core/mesh_shape.h"
+#include "core/pair.h"
 #include "core/shape.h"
 #include "core/superball.h"
 #include "core/size_dist_sample.h"
@@ -119,7 +120,13 @@ typedef struct rsa {
     int gjk;              /* superballs and the Archimedean solids: GJK on support
                              functions (vp_convex); platonic solids: the SAT */
     vp_shape shape;
-    int solid;            /* poly or mesh: not spheres */
+    int solid;            /* poly or mesh: not spheres (every pass of a mixed set) */
+    /* several shapes (passes of their own shapes): the fields above are the
+     * pass's kind (kinds[cur]); shape_index of the particle set gives each
+     * particle's kind; pairs of two kinds go to vp_kind_overlap */
+    int mixed;
+    vp_kind kinds[VP_MAX_SHAPES];
+    unsigned nkinds, cur;
     double rin;           /* insphere / bounding-sphere radius (1 for spheres):
                              two particles whose centres are closer than
                              rin (r_i + r_j) overlap whatever their orientation */
@@ -212,6 +219,11 @@ static int reserve(rsa *s, size_t want) {
     uint16_t *grp = realloc(p->groups, cap * sizeof *grp);
     if (!grp) return -1;
     p->groups = grp;
+    if (s->mixed) {
+        uint8_t *k = realloc(p->shape_index, cap * sizeof *k);
+        if (!k) return -1;
+        p->shape_index = k;
+    }
     if (p->has_orient) {
         float *o = realloc(p->orients, cap * 4 * sizeof *o);
         if (!o) return -1;
@@ -235,6 +247,14 @@ static inline void round_pos(const rsa *s, double x[3]) {
 
 static inline void store_pos(rsa *s, size_t j, const double x[3]) {
     for (int k = 0; k < 3; k++) s->fpos[3 * j + k] = (float)(x[k] - s->base[k]);
+}
+
+/* The distance below which a centre of the pass's kind and radius r
+ * overlaps particle j (radius rj) whatever the orientations: the sum of
+ * the inspheres' radii. */
+static inline double excluded(const rsa *s, double r, size_t j, double rj) {
+    if (!s->mixed) return s->rin * (r + rj);
+    return s->rin * r + s->kinds[s->p->shape_index[j]].rin * rj;
 }
 
 /* --- neighbour tests ---------------------------------------------------------- */
@@ -381,6 +401,9 @@ static int solid_exact(solid_query *w, uint32_t j) {
     } else {
         vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     }
+    if (s->mixed && s->p->shape_index[j] != s->cur)
+        return vp_kind_overlap(&s->kinds[s->cur], w->r, cand_quat(w), w->x,
+                               &s->kinds[s->p->shape_index[j]], rj, qj, c);
     if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, cand_quat(w), w->x, rj, qj, c, NULL);
     if (s->gjk) {
         if (!w->posed) { /* the candidate's support, posed once */
@@ -416,7 +439,12 @@ static int solid_visit(void *user, uint32_t j) {
         d[k] = w->x[k] - c[k];
         d2 += d[k] * d[k];
     }
-    if (d2 < s->rin * s->rin * e * e) return 1;        /* inspheres overlap */
+    if (s->mixed) {
+        double ein = excluded(s, w->r, j, rj);
+        if (d2 < ein * ein) return 1;                  /* inspheres overlap */
+    } else if (d2 < s->rin * s->rin * e * e) {
+        return 1;                                      /* inspheres overlap */
+    }
     if (d2 >= s->reach * s->reach * e * e) return 0;   /* bounding spheres (boxes) apart */
     if (s->bbox) { /* boxes apart on one axis (touching counts as apart) */
         for (int k = 0; k < 3; k++)
@@ -450,6 +478,7 @@ static int solid_fits_wall(const rsa *s, const double x[3], double d, const doub
     if (s->fit == VP_FIT_CENTER || !(d <= thr_drop(s, r))) return 0;
     if (s->mesh) return vp_mesh_shape_wall_distance(s->c, s->mesh, r, q, x, 0.0) <= 0.0;
     if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, r, q, x, 0.0) <= 0.0;
+    if (!s->poly) return 0; /* a sphere of a mixed set: the thresholds decided */
     return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
 }
 
@@ -502,6 +531,7 @@ static int dart_solid_free(const rsa *s, dart *t, double r) {
 typedef struct held {
     float pos[3];
     float r, q[4];
+    uint8_t kind;
 } held;
 
 static void hold(const rsa *s, size_t i, held *h) {
@@ -509,6 +539,7 @@ static void hold(const rsa *s, size_t i, held *h) {
     memcpy(h->pos, s->fpos + 3 * i, sizeof h->pos);
     h->r = p->radii[i];
     if (p->has_orient) memcpy(h->q, p->orients + 4 * i, sizeof h->q);
+    h->kind = s->mixed ? p->shape_index[i] : 0;
 }
 
 /* Puts the held particle at i and holds the one that was there. */
@@ -519,6 +550,7 @@ static void exchange(rsa *s, size_t i, held *h) {
     memcpy(s->fpos + 3 * i, h->pos, sizeof h->pos);
     p->radii[i] = h->r;
     if (p->has_orient) memcpy(p->orients + 4 * i, h->q, sizeof h->q);
+    if (s->mixed) p->shape_index[i] = h->kind;
     *h = t;
 }
 
@@ -660,7 +692,7 @@ static int cover_visit(void *user, uint32_t j) {
     double c[3];
     ppos(q->s, j, c);
     const rsa *s = q->s;
-    double e = s->rin * (s->rmin + (s->uni_r > 0 ? s->uni_r : s->p->radii[j])), f = 0.0;
+    double e = excluded(s, s->rmin, j, s->uni_r > 0 ? s->uni_r : s->p->radii[j]), f = 0.0;
     for (int k = 0; k < 3; k++) {
         double t = fabs(q->m[k] - c[k]) + q->half;
         f += t * t;
@@ -772,7 +804,7 @@ static int gather_visit(void *user, uint32_t j) {
     ppos(b->s, j, c);
     double e2 = b->uni_e2, d2 = 0.0;
     if (!(e2 > 0)) {
-        double e = b->s->rin * (b->s->rmin + b->s->p->radii[j]);
+        double e = excluded(b->s, b->s->rmin, j, b->s->p->radii[j]);
         e2 = e * e;
     }
     /* a ball that can hold no cube of side smin in the parent box holds
@@ -1594,9 +1626,10 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             s->p->radii[i] = (float)cur_r;
             if (cur_r > s->max_r) s->max_r = cur_r;
             if (cur_r < s->min_r) s->min_r = cur_r;
-            if (i == 0) s->uni_r = (float)cur_r;
+            if (i == 0 && !s->mixed) s->uni_r = (float)cur_r; /* (mixed: rin differs) */
             else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
             s->p->groups[i] = (uint16_t)pass_index;
+            if (s->mixed) s->p->shape_index[i] = (uint8_t)s->cur;
             if (s->solid) {
                 const double *q = dart_quat(s, t);
                 for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)q[m];
@@ -1706,6 +1739,58 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     return VP_OK;
 }
 
+/* The pass's shape as the tests use it (kinds[k]). */
+static void use_kind(rsa *s, unsigned k) {
+    const vp_kind *K = &s->kinds[k];
+    s->cur = k;
+    s->poly = K->poly;
+    s->mesh = K->mesh;
+    s->sb = K->shape == VP_SHAPE_SUPERBALL ? K->param : 0.0;
+    s->shape = K->shape;
+    s->gjk = s->sb > 0 || vp_shape_overlap_by_gjk(K->shape);
+    s->rin = s->solid ? K->rin : 1.0;
+    s->unit_volume = K->unit_volume;
+    s->cube = K->shape == VP_SHAPE_CUBE && !s->bbox && !s->mixed;
+}
+
+/* The passes' shapes: kinds[0..*nkinds) in the order the passes first use
+ * them, and each pass's index into them. */
+static vp_result resolve_kinds(vp_context *ctx, const vp_rsa_params *params, vp_kind *kinds,
+                               unsigned *nkinds, unsigned *pass_kind) {
+    *nkinds = 0;
+    for (size_t i = 0; i < params->npasses; i++) {
+        const vp_rsa_pass *ps = &params->passes[i];
+        vp_shape_ref ref = {params->shape, params->shape_param,
+                            params->shape == VP_SHAPE_MESH ? params->mesh : NULL};
+        if (ps->own_shape) ref = ps->shape;
+        if (ref.shape != VP_SHAPE_SUPERBALL) ref.param = 0.0;
+        if (ref.shape != VP_SHAPE_MESH) ref.mesh = NULL;
+        vp_kind k;
+        if (vp_kind_set(&k, ref) != 0) {
+            char where[32] = "";
+            if (ps->own_shape) snprintf(where, sizeof where, "pass %zu: ", i + 1);
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: %s%s", where,
+                           ref.shape == VP_SHAPE_SUPERBALL
+                               ? "a superball's exponent must be in [0.5, 1000]"
+                           : ref.shape == VP_SHAPE_MESH ? "a mesh shape needs its vp_mesh_shape"
+                                                        : "unknown shape");
+        }
+        unsigned u = 0;
+        while (u < *nkinds && !(kinds[u].shape == k.shape && kinds[u].param == k.param &&
+                                kinds[u].mesh == k.mesh))
+            u++;
+        if (u == *nkinds) {
+            if (u == VP_MAX_SHAPES)
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               "rsa: pass %zu: more than %d shapes in one packing", i + 1,
+                               VP_MAX_SHAPES);
+            kinds[(*nkinds)++] = k;
+        }
+        pass_kind[i] = u;
+    }
+    return VP_OK;
+}
+
 /* An environment variable set to anything but "" or "0". */
 static int env_flag(const char *name) {
     const char *v = getenv(name);
@@ -1724,16 +1809,12 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        VP_MAX_GROUPS);
     if (params->fit != VP_FIT_INSIDE && params->fit != VP_FIT_CENTER)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown fit");
-    if (params->shape == VP_SHAPE_SUPERBALL
-            ? !(params->shape_param >= VP_SUPERBALL_P_MIN && params->shape_param <= VP_SUPERBALL_P_MAX)
-            : params->shape == VP_SHAPE_MESH
-                  ? !params->mesh
-                  : ((int)params->shape < 0 || params->shape >= VP_SHAPE_COUNT))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       params->shape == VP_SHAPE_SUPERBALL
-                           ? "rsa: a superball's exponent must be in [0.5, 1000]"
-                       : params->shape == VP_SHAPE_MESH ? "rsa: a mesh shape needs its vp_mesh_shape"
-                                                        : "rsa: unknown shape");
+    vp_kind kinds[VP_MAX_SHAPES];
+    unsigned nkinds = 0, pass_kind[VP_MAX_GROUPS];
+    vp_result kr = resolve_kinds(ctx, params, kinds, &nkinds, pass_kind);
+    if (kr != VP_OK) return kr;
+    const vp_kind *k0 = &kinds[0]; /* the shape of a one-shape packing */
+    const int mixed = nkinds > 1;
     if (params->orient != VP_ORIENT_RANDOM && params->orient != VP_ORIENT_FIXED)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: unknown orientation mode");
     if (params->overlap != VP_OVERLAP_EXACT && params->overlap != VP_OVERLAP_BBOX)
@@ -1742,27 +1823,33 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         !isfinite(params->gap))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: margin and gap must be finite and >= 0 (world units)");
-    if ((params->margin > 0 || params->gap > 0) && params->shape != VP_SHAPE_SPHERE)
+    if ((params->margin > 0 || params->gap > 0) && (mixed || k0->shape != VP_SHAPE_SPHERE))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: a margin or gap packs spheres in this version");
+    if ((params->radius_field || params->density_field) &&
+        (mixed || k0->shape != params->shape || k0->mesh != params->mesh))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "rsa: the fields pack one shape: passes with shapes of their own are "
+                       "not taken with them");
     if (params->radius_field || params->density_field) /* one radius per pass no more */
         return vp_rsa_fields_pack(ctx, c, params, out, report);
-    if (params->shape != VP_SHAPE_SPHERE && params->overlap == VP_OVERLAP_BBOX &&
+    if (mixed && params->overlap == VP_OVERLAP_BBOX)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "rsa: the bounding-box overlap test takes one shape; passes of several "
+                       "shapes are tested exactly");
+    if (k0->shape != VP_SHAPE_SPHERE && params->overlap == VP_OVERLAP_BBOX &&
         params->orient == VP_ORIENT_RANDOM)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: the bounding-box overlap test needs fixed orientations (axis-aligned "
                        "boxes of rotated solids would not bound them)");
-    const double unit_volume = params->shape == VP_SHAPE_MESH
-                                   ? vp_mesh_shape_volume(params->mesh)
-                                   : vp_shape_unit_volume_param(params->shape,
-                                                                params->shape_param);
     double rmin = HUGE_VAL, rmax = 0, estimate = 0;
     double vmin = 0.0, r1 = 0.0; /* count passes' volume at their smallest sizes; last size */
     size_t nall = 0;              /* particles the count passes ask for */
-    int equal = params->shape == VP_SHAPE_SPHERE; /* spheres of one radius */
+    int equal = k0->shape == VP_SHAPE_SPHERE && !mixed; /* spheres of one radius */
     const vp_container_info *ci = &c->info;
     for (size_t i = 0; i < params->npasses; i++) {
         const vp_rsa_pass *ps = &params->passes[i];
+        const double unit_volume = kinds[pass_kind[i]].unit_volume;
         double a = vp_size_dist_min(&ps->radius), b = vp_size_dist_max(&ps->radius);
         if (!(a > 0) || !(b >= a) || !isfinite(b))
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -1869,15 +1956,14 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     /* trilinear interpolation of exact distances has partial derivatives up
      * to 1 each, so its gradient can reach sqrt(3) near edges */
     s.lipschitz = ci->voxel_size > 0 ? sqrt(3.0) : 1.0;
-    s.unit_volume = unit_volume;
     s.rin = 1.0;
     s.reach = 1.0;
-    s.poly = vp_shape_polyhedron(params->shape);
-    s.mesh = params->shape == VP_SHAPE_MESH ? params->mesh : NULL;
-    s.sb = params->shape == VP_SHAPE_SUPERBALL ? params->shape_param : 0.0;
-    s.shape = params->shape;
-    s.gjk = s.sb > 0 || vp_shape_overlap_by_gjk(params->shape);
-    s.solid = s.poly || s.mesh || s.sb > 0;
+    s.mixed = mixed;
+    s.nkinds = nkinds;
+    memcpy(s.kinds, kinds, sizeof kinds);
+    s.solid = mixed || k0->shape != VP_SHAPE_SPHERE;
+    s.bbox = s.solid && params->overlap == VP_OVERLAP_BBOX;
+    use_kind(&s, 0);
     {
         /* the solids' exact tests and the spheres' top balls allow for it */
         double L = 0.0;
@@ -1888,12 +1974,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         s.coord_eps = 64.0 * DBL_EPSILON * L;
     }
     if (s.solid) {
-        s.rin = s.poly   ? s.poly->inradius
-                : s.mesh ? s.mesh->inradius
-                         : vp_superball_inradius(s.sb);
         s.orient_random = params->orient == VP_ORIENT_RANDOM;
-        s.bbox = params->overlap == VP_OVERLAP_BBOX;
-        s.cube = params->shape == VP_SHAPE_CUBE && !s.bbox;
         s.reach = 1.0;
         for (int k = 0; k < 3; k++) {
             s.bb_lo[k] = HUGE_VAL;
@@ -1929,9 +2010,16 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         vp_particles_destroy(s.p);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
     }
-    s.p->shape = params->shape;
-    s.p->mesh = s.mesh;
-    s.p->shape_param = s.sb;
+    s.p->shape = mixed ? VP_SHAPE_MIXED : k0->shape;
+    s.p->mesh = mixed ? NULL : k0->mesh;
+    s.p->shape_param = mixed ? 0.0 : k0->param;
+    if (mixed) {
+        s.p->shape_count = nkinds;
+        for (unsigned k = 0; k < nkinds; k++) {
+            vp_shape_ref ref = {kinds[k].shape, kinds[k].param, kinds[k].mesh};
+            s.p->shapes[k] = ref;
+        }
+    }
     s.p->group_count = (unsigned)params->npasses;
     for (size_t i = 0; i < params->npasses; i++) {
         char b[VP_GROUP_NAME_MAX];
@@ -1950,6 +2038,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     memset(&rep, 0, sizeof rep);
     rep.npasses = params->npasses;
     for (size_t i = 0; i < params->npasses && r == VP_OK; i++) {
+        use_kind(&s, pass_kind[i]);
         r = run_pass(&s, &params->passes[i], (unsigned)i, params->seed, &rep.passes[i],
                      (double)i / params->npasses, (double)(i + 1) / params->npasses);
     }

@@ -44,6 +44,7 @@ static int vp_streq_nocase(const char *a, const char *b) {
 const char *vp_shape_name(vp_shape s) {
     if (s == VP_SHAPE_MESH) return "mesh";
     if (s == VP_SHAPE_SUPERBALL) return "superball";
+    if (s == VP_SHAPE_MIXED) return "mixed";
     if ((int)s < 0 || (int)s >= VP_SHAPE_COUNT) return NULL;
     return vp_shape_names[s];
 }

@@ -107,4 +107,12 @@ int vp_wall_sample(vp_wall_acc *a, const double x[3]);
 int vp_wall_segment(vp_wall_acc *a, const double p[3], const double q[3], int n);
 int vp_wall_triangle(vp_wall_acc *a, const double p0[3], const double p1[3], const double p2[3],
                      int n);
+
+/* A list as vp_particles_shape_list writes it ("sphere;cube;mesh:rock.obj")
+ * into shapes (at most VP_MAX_SHAPES; mesh shapes without their mesh, the
+ * names after "mesh:" in names, cut to VP_SHAPE_NAME_MAX - 1, when names is
+ * not NULL) and *count. 0, or -1 for an empty entry, an
+ * unknown name or too many. */
+int vp_shape_list_parse(const char *text, vp_shape_ref *shapes, unsigned *count,
+                        char (*names)[VP_SHAPE_NAME_MAX]);
 #endif

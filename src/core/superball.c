@@ -79,7 +79,27 @@ void vp_convex_set(vp_convex *c, vp_shape shape, double p, double scale, const d
     for (int k = 0; k < 3; k++) c->t[k] = t[k] - (origin ? origin[k] : 0.0);
 }
 
+void vp_convex_set_triangle(vp_convex *c, const double a[3], const double b[3], const double cc[3],
+                            const double origin[3]) {
+    memset(c, 0, sizeof *c);
+    c->kind = 3;
+    const double *v[3] = {a, b, cc};
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) c->tri[i][k] = v[i][k] - (origin ? origin[k] : 0.0);
+    for (int k = 0; k < 3; k++) c->t[k] = (c->tri[0][k] + c->tri[1][k] + c->tri[2][k]) / 3.0;
+}
+
 void vp_convex_support(const vp_convex *c, const double d[3], double x[3]) {
+    if (c->kind == 3) {
+        int best = 0;
+        double bv = vp_dot3(c->tri[0], d);
+        for (int v = 1; v < 3; v++) {
+            double s = vp_dot3(c->tri[v], d);
+            if (s > bv) { bv = s; best = v; }
+        }
+        memcpy(x, c->tri[best], 3 * sizeof *x);
+        return;
+    }
     /* the direction in the shape's frame: m^T d */
     double l[3], y[3];
     for (int k = 0; k < 3; k++) l[k] = c->m[0][k] * d[0] + c->m[1][k] * d[1] + c->m[2][k] * d[2];

@@ -32,16 +32,22 @@ void vp_superball_support(double p, const double d[3], double x[3]);
 /* A convex shape seen through its support function, posed at (scale, q,
  * t) relative to an origin chosen by the caller. */
 typedef struct vp_convex {
-    int kind;             /* 0 sphere, 1 superball, 2 polyhedron (vertex hull) */
+    int kind;             /* 0 sphere, 1 superball, 2 polyhedron (vertex hull),
+                             3 triangle (vp_convex_set_triangle) */
     double p;             /* superball exponent */
     const vp_polyhedron *poly;
     double scale;
     double m[3][3];       /* rotation, local to world */
-    double t[3];
+    double t[3];          /* the centre (a triangle: its centroid) */
+    double tri[3][3];     /* kind 3: the corners, relative to the origin */
 } vp_convex;
 void vp_convex_set(vp_convex *c, vp_shape shape, double p, double scale, const double q[4],
                    const double t[3], const double origin[3]);
 void vp_convex_support(const vp_convex *c, const double d[3], double x[3]);
+/* A triangle (world corners a, b, c) relative to origin (NULL: 0): the
+ * mesh shapes' faces against the convex shapes (pair.c). */
+void vp_convex_set_triangle(vp_convex *c, const double a[3], const double b[3], const double cc[3],
+                            const double origin[3]);
 
 /* GJK on the Minkowski difference. Returns 1 when the shapes intersect
  * (the origin was enclosed by a simplex of support points), 0 when a

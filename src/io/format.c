@@ -101,36 +101,47 @@ vp_result vp_import(vp_context *ctx, const char *path, vp_format format, vp_part
     }
 }
 
+/* The OBJ bytes of one particle of shape ref among n: "v x y z" with %.9g
+ * (about 40 bytes), "f a b c" with indices of about log10(n * v) digits,
+ * as many as the largest face has; 0 for an unknown shape. */
+static double obj_bytes_per_particle(vp_shape_ref ref, double n, const vp_export_params *params) {
+    int v = 0, f = 0;
+    const vp_mesh_shape *um = ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL)
+                                                              : ref.mesh;
+    if ((ref.shape == VP_SHAPE_MESH || ref.shape == VP_SHAPE_SUPERBALL) && um) {
+        v = (int)vp_mesh_shape_triangles(um) / 2 + 2; /* closed genus-0 estimate */
+        f = (int)vp_mesh_shape_triangles(um);
+    } else if (vp_export_obj_counts(ref.shape, params ? params->sphere_subdivisions : 0, &v, &f) !=
+               0) {
+        return 0;
+    }
+    double digits = ceil(log10(n * v + 10)) + 1;
+    const vp_polyhedron *poly = vp_shape_polyhedron(ref.shape);
+    int fmax = 3;
+    for (int k = 0; poly && k < poly->nfaces; k++)
+        if (poly->face_size[k] > fmax) fmax = poly->face_size[k];
+    return v * 40.0 + f * (2 + fmax * digits);
+}
+
 double vp_export_estimate_bytes(const vp_particles *p, vp_format format,
                                 const vp_export_params *params) {
     if (!p) return 0;
     double n = (double)p->count;
     int o = p->has_orient;
     switch (format) {
-    case VP_FORMAT_PLY: return 1024 + n * (4 * 3 + 4 + 4 + (o ? 16 : 0) + 1);
-    case VP_FORMAT_CSV: return 64 + n * (10 + 3 * 24 + 15 + (o ? 4 * 15 : 0) + 8);
+    case VP_FORMAT_PLY: return 1024 + n * (4 * 3 + 4 + 4 + (o ? 16 : 0) + 1 + (p->shape_index ? 1 : 0));
+    case VP_FORMAT_CSV: return 64 + n * (10 + 3 * 24 + 15 + (o ? 4 * 15 : 0) + 8 + (p->shape_index ? 40 : 0));
     case VP_FORMAT_VDB: return n * (o ? 40 : 24);
-    case VP_FORMAT_OBJ: {
-        int v = 0, f = 0;
-        const vp_mesh_shape *um = p->shape == VP_SHAPE_SUPERBALL
-                                      ? vp_superball_mesh(p->shape_param, NULL)
-                                      : p->mesh;
-        if ((p->shape == VP_SHAPE_MESH || p->shape == VP_SHAPE_SUPERBALL) && um) {
-            v = (int)vp_mesh_shape_triangles(um) / 2 + 2; /* closed genus-0 estimate */
-            f = (int)vp_mesh_shape_triangles(um);
-        } else if (vp_export_obj_counts(p->shape, params ? params->sphere_subdivisions : 0, &v,
-                                        &f) != 0) {
-            return 0;
+    case VP_FORMAT_OBJ: { /* a mixed set: as if every particle were its largest shape */
+        double most = 0.0;
+        unsigned nk = p->shape == VP_SHAPE_MIXED ? p->shape_count : 1;
+        for (unsigned k = 0; k < nk && k < VP_MAX_SHAPES; k++) {
+            vp_shape_ref ref = p->shape == VP_SHAPE_MIXED ? p->shapes[k] : vp_particles_shape_of(p, 0);
+            double b = obj_bytes_per_particle(ref, n, params);
+            if (!(b > 0)) return 0;
+            if (b > most) most = b;
         }
-        /* "v x y z" with %.9g (about 40 bytes), "f a b c" with indices of
-         * about log10(n * v) digits, as many as the largest face has */
-        double digits = ceil(log10(n * v + 10)) + 1;
-        const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
-        int fmax = 3;
-        for (int k = 0; poly && k < poly->nfaces; k++)
-            if (poly->face_size[k] > fmax) fmax = poly->face_size[k];
-        double per_face = 2 + fmax * digits;
-        return 1024 + n * (v * 40.0 + f * per_face);
+        return 1024 + n * most;
     }
     default: return 0;
     }

@@ -134,38 +134,80 @@ static int build_unit(unit_mesh *m, vp_shape s, const vp_mesh_shape *mesh, int n
     return 0;
 }
 
+/* The unit mesh of a shape (superballs: their tessellation); a message
+ * in ctx and an error on failure. */
+static vp_result unit_for(vp_context *ctx, const char *path, unit_mesh *m, vp_shape_ref ref,
+                          int n) {
+    memset(m, 0, sizeof *m);
+    if (!vp_shape_name(ref.shape) || ref.shape == VP_SHAPE_MIXED)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: unknown particle shape", path);
+    if (ref.shape == VP_SHAPE_MESH && !ref.mesh)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "%s: the particles are of a mesh shape and the mesh is not loaded", path);
+    const vp_mesh_shape *um = ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL)
+                                                              : ref.mesh;
+    if (ref.shape == VP_SHAPE_SUPERBALL && !um)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "%s: a superball's exponent must be in [0.5, 1000], not %g", path,
+                       ref.param);
+    if (build_unit(m, ref.shape == VP_SHAPE_SUPERBALL ? VP_SHAPE_MESH : ref.shape, um, n) != 0) {
+        unit_free(m);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for the unit shape", path);
+    }
+    return VP_OK;
+}
+
+/* The unit meshes of a set's shapes: one, or one per shape of a mixed set
+ * (units[shape_index]). *nunits of them to free with units_free. */
+static vp_result units_for(vp_context *ctx, const char *path, const vp_particles *p, int n,
+                           unit_mesh *units, unsigned *nunits) {
+    unsigned nk = p->shape == VP_SHAPE_MIXED ? p->shape_count : 1;
+    *nunits = 0;
+    if (p->shape == VP_SHAPE_MIXED && (!p->shape_index || nk < 1 || nk > VP_MAX_SHAPES))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: a mixed set without its shapes", path);
+    for (unsigned k = 0; k < nk; k++) {
+        vp_shape_ref ref = p->shape == VP_SHAPE_MIXED ? p->shapes[k] : vp_particles_shape_of(p, 0);
+        vp_result r = unit_for(ctx, path, &units[k], ref, n);
+        if (r != VP_OK) return r;
+        *nunits = k + 1;
+    }
+    return VP_OK;
+}
+
+static void units_free(unit_mesh *units, unsigned n) {
+    for (unsigned k = 0; k < n; k++) unit_free(&units[k]);
+}
+
 vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *p,
                          const vp_export_params *params) {
     vp_result r = vpio_check_particles(ctx, path, p);
     if (r == VP_OK) r = vpio_check_writable(ctx, path, p, 2, "OBJ");
     if (r != VP_OK) return r;
-    if (!vp_shape_name(p->shape))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: unknown particle shape", path);
     int n = clamp_subdiv(params->sphere_subdivisions);
-    unit_mesh m;
-    if (p->shape == VP_SHAPE_MESH && !p->mesh)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "%s: the particles are of a mesh shape and the mesh is not loaded", path);
-    const vp_mesh_shape *um = p->shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(p->shape_param, NULL)
-                                                             : p->mesh;
-    if (p->shape == VP_SHAPE_SUPERBALL && !um)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "%s: a superball's exponent must be in [0.5, 1000], not %g", path,
-                       p->shape_param);
-    if (build_unit(&m, p->shape == VP_SHAPE_SUPERBALL ? VP_SHAPE_MESH : p->shape, um, n) != 0) {
-        unit_free(&m);
-        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for the unit shape", path);
+    unit_mesh units[VP_MAX_SHAPES];
+    unsigned nunits = 0;
+    if ((r = units_for(ctx, path, p, n, units, &nunits)) != VP_OK) {
+        units_free(units, nunits);
+        return r;
     }
+    unit_mesh m = units[0];
     vpio_out o;
     if ((r = vpio_open(ctx, path, &o)) != VP_OK) {
-        unit_free(&m);
+        units_free(units, nunits);
         return r;
     }
     FILE *f = o.f;
-    fprintf(f, "# vdbpack %s: %zu %s%s, each %d vertices and %d faces, one object per group;\n"
-               "# in each object, particles in id order, each its vertices then its faces\n",
-            VP_VERSION_STRING, p->count, vp_shape_name(p->shape), p->count == 1 ? "" : "s", m.nv,
-            m.nf);
+    if (p->shape == VP_SHAPE_MIXED) {
+        char list[4096];
+        fprintf(f, "# vdbpack %s: %zu particles of %u shapes (%s), one object per group;\n"
+                   "# in each object, particles in id order, each its vertices then its faces\n",
+                VP_VERSION_STRING, p->count, nunits, vp_particles_shape_list(p, list, sizeof list));
+    } else {
+        fprintf(f, "# vdbpack %s: %zu %s%s, each %d vertices and %d faces, one object per group;\n"
+                   "# in each object, particles in id order, each its vertices then its faces\n",
+                VP_VERSION_STRING, p->count, vp_shape_name(p->shape), p->count == 1 ? "" : "s",
+                m.nv, m.nf);
+    }
     for (size_t i = 0; i < params->vdb.meta_count; i++) {
         const vp_meta *mt = &params->vdb.meta[i];
         fprintf(f, "# %s: ", mt->key ? mt->key : "");
@@ -194,6 +236,7 @@ vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *
                 cancelled = 1;
                 break;
             }
+            if (p->shape == VP_SHAPE_MIXED) m = units[p->shape_index[i]];
             double q[4] = {0, 0, 0, 1}, s = vpio_radius(p, i);
             if (p->has_orient) vp_quat_from_float(vpio_orient(p, i), q);
             const double *c = p->positions + 3 * i;
@@ -210,7 +253,7 @@ vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *
             base += (unsigned long long)m.nv;
         }
     }
-    unit_free(&m);
+    units_free(units, nunits);
     if (cancelled) {
         vpio_close(ctx, &o, 1);
         return vp_fail(ctx, VP_ERR_CANCELLED, "%s: cancelled", path);
@@ -234,5 +277,39 @@ vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const
     for (size_t t = 0; t < s->ntris; t++)
         fprintf(o.f, "f %u %u %u\n", s->tris[3 * t] + 1, s->tris[3 * t + 1] + 1,
                 s->tris[3 * t + 2] + 1);
+    return vpio_close(ctx, &o, 0);
+}
+
+vp_result vp_particles_write_shapes_obj(vp_context *ctx, const vp_particles *p, const char *path) {
+    if (!p) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "no particles");
+    unit_mesh units[VP_MAX_SHAPES];
+    unsigned nunits = 0;
+    vp_result r = units_for(ctx, path, p, clamp_subdiv(0), units, &nunits);
+    vpio_out o;
+    if (r == VP_OK) r = vpio_open(ctx, path, &o);
+    if (r != VP_OK) {
+        units_free(units, nunits);
+        return r;
+    }
+    char list[4096];
+    fprintf(o.f, "# vdbpack %s unit shapes (%s): bounding-sphere radius 1, centroid at the\n"
+                 "# origin. Group shapeK is the shape of the points whose shape attribute is K;\n"
+                 "# instance it at each such point scaled by pscale and rotated by orient.\n",
+            VP_VERSION_STRING, vp_particles_shape_list(p, list, sizeof list));
+    unsigned long long base = 1;
+    for (unsigned k = 0; k < nunits; k++) {
+        const unit_mesh *m = &units[k];
+        fprintf(o.f, "o shape%u\ng shape%u\n", k, k);
+        for (int v = 0; v < m->nv; v++)
+            fprintf(o.f, "v %.17g %.17g %.17g\n", m->v[v][0], m->v[v][1], m->v[v][2]);
+        for (int t = 0; t < m->nf; t++) {
+            fputc('f', o.f);
+            for (int e = 0; e < m->fsize[t]; e++)
+                fprintf(o.f, " %llu", base + (unsigned long long)m->f[t][e]);
+            fputc('\n', o.f);
+        }
+        base += (unsigned long long)m->nv;
+    }
+    units_free(units, nunits);
     return vpio_close(ctx, &o, 0);
 }

@@ -6,6 +6,7 @@
  * properties), strictly: see docs/export.md. */
 #include "io/io_internal.h"
 #include "core/context.h"
+#include "core/shape.h"
 
 #include <errno.h>
 #include <math.h>
@@ -42,8 +43,13 @@ vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *
     FILE *f = o.f;
     fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment vdbpack %s\n", VP_VERSION_STRING);
     char shape_text[64];
+    int mixed = p->shape == VP_SHAPE_MIXED;
     vp_shape_format(p->shape, p->shape_param, shape_text, sizeof shape_text);
     fprintf(f, "comment shape %s\n", shape_text[0] ? shape_text : "sphere");
+    if (mixed) {
+        char list[4096];
+        put_comment(f, "shapes", vp_particles_shape_list(p, list, sizeof list));
+    }
     for (unsigned g = 0; g < p->group_count; g++)
         fprintf(f, "comment group %u %.*s\n", g, VP_GROUP_NAME_MAX, p->group_names[g]);
     for (size_t i = 0; i < params->vdb.meta_count; i++) {
@@ -66,9 +72,10 @@ vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *
     if (p->has_orient)
         fputs("property float orient_x\nproperty float orient_y\nproperty float orient_z\n"
               "property float orient_w\n", f);
-    fputs("property uchar group\nend_header\n", f);
+    fputs(mixed ? "property uchar group\nproperty uchar shape\nend_header\n"
+                : "property uchar group\nend_header\n", f);
     unsigned char rec[64];
-    size_t stride = 12 + 4 + 4 + (p->has_orient ? 16 : 0) + 1;
+    size_t stride = 12 + 4 + 4 + (p->has_orient ? 16 : 0) + 1 + (mixed ? 1 : 0);
     for (size_t i = 0; i < p->count && !ferror(f); i++) {
         unsigned char *b = rec;
         for (int c = 0; c < 3; c++, b += 4) put_f32(b, (float)p->positions[3 * i + c]);
@@ -78,7 +85,8 @@ vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *
             const float *q = vpio_orient(p, i);
             for (int c = 0; c < 4; c++, b += 4) put_f32(b, q[c]);
         }
-        *b = (unsigned char)vpio_group(p, i);
+        *b++ = (unsigned char)vpio_group(p, i);
+        if (mixed) *b = p->shape_index[i];
         fwrite(rec, 1, stride, f);
     }
     return vpio_close(ctx, &o, 0);
@@ -111,9 +119,10 @@ static double get_val(const unsigned char *b, ptype t) {
     }
 }
 
-enum { P_X, P_Y, P_Z, P_PSCALE, P_ID, P_QX, P_QY, P_QZ, P_QW, P_GROUP, P_COUNT };
-static const char *const k_props[P_COUNT] = {"x", "y", "z", "pscale", "id", "orient_x",
-                                             "orient_y", "orient_z", "orient_w", "group"};
+enum { P_X, P_Y, P_Z, P_PSCALE, P_ID, P_QX, P_QY, P_QZ, P_QW, P_GROUP, P_SHAPE, P_COUNT };
+static const char *const k_props[P_COUNT] = {"x",        "y",        "z",        "pscale",
+                                             "id",       "orient_x", "orient_y", "orient_z",
+                                             "orient_w", "group",    "shape"};
 
 typedef struct ply_header {
     size_t n;
@@ -123,6 +132,10 @@ typedef struct ply_header {
     int shape_set;
     vp_shape shape;
     double shape_param;
+    int shapes_set;                    /* "comment shapes" of a mixed set */
+    unsigned nshapes;
+    vp_shape_ref shapes[VP_MAX_SHAPES];
+    char shape_names[VP_MAX_SHAPES][VP_SHAPE_NAME_MAX];
     int named[VP_MAX_GROUPS];
     char names[VP_MAX_GROUPS][VP_GROUP_NAME_MAX];
 } ply_header;
@@ -176,7 +189,18 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
                            path, w1, w2);
             have_format = 1;
         } else if (!strcmp(w0, "comment") || !strcmp(w0, "obj_info")) {
-            if (!strcmp(w0, "comment") && !strcmp(w1, "shape") && nw >= 3) {
+            if (!strcmp(w0, "comment") && !strcmp(w1, "shape") && nw >= 3 &&
+                !strcmp(w2, "mixed")) {
+                h->shape = VP_SHAPE_MIXED;
+                h->shape_set = 1;
+            } else if (!strcmp(w0, "comment") && !strcmp(w1, "shapes") && nw >= 3) {
+                /* the list is one word: shape names have no spaces, mesh names may */
+                const char *list = strstr(line, "shapes") + 7;
+                if (vp_shape_list_parse(list, h->shapes, &h->nshapes, h->shape_names) != 0)
+                    return BAD("%s: malformed shapes comment '%s' (names of shapes joined by ;)",
+                               path, list);
+                h->shapes_set = 1;
+            } else if (!strcmp(w0, "comment") && !strcmp(w1, "shape") && nw >= 3) {
                 if (vp_shape_parse_param(w2, &h->shape, &h->shape_param) != 0)
                     return BAD("%s: unknown shape '%s' in the PLY header", path, w2);
                 h->shape_set = 1;
@@ -240,6 +264,13 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
             return BAD("%s: PLY property '%s' must be float or double", path, k_props[i]);
     if (h->off[P_GROUP] >= 0 && (h->type[P_GROUP] == T_F32 || h->type[P_GROUP] == T_F64))
         return BAD("%s: PLY property 'group' must be an integer type", path);
+    int mixed = h->shape_set && h->shape == VP_SHAPE_MIXED;
+    if (mixed && (!h->shapes_set || h->off[P_SHAPE] < 0))
+        return BAD("%s: the PLY says shape mixed but has no %s", path,
+                   h->shapes_set ? "shape property" : "shapes comment");
+    if (mixed && (h->type[P_SHAPE] == T_F32 || h->type[P_SHAPE] == T_F64))
+        return BAD("%s: PLY property 'shape' must be an integer type", path);
+    if (!mixed) h->off[P_SHAPE] = -1; /* another file's own property: not ours */
     *header_bytes = total;
     return VP_OK;
 }
@@ -275,7 +306,17 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
         goto done;
     }
     p->shape = h.shape_set ? h.shape : VP_SHAPE_SPHERE;
-    p->shape_param = h.shape_set ? h.shape_param : 0.0;
+    p->shape_param = h.shape_set && h.shape != VP_SHAPE_MIXED ? h.shape_param : 0.0;
+    if (p->shape == VP_SHAPE_MIXED) {
+        p->shape_count = h.nshapes;
+        memcpy(p->shapes, h.shapes, sizeof h.shapes);
+        memcpy(p->shape_names, h.shape_names, sizeof h.shape_names);
+        p->shape_index = malloc(h.n ? h.n : 1);
+        if (!p->shape_index) {
+            r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for %zu particles", path, h.n);
+            goto done;
+        }
+    }
     *needs_shape = with_q && !h.shape_set;
     int maxg = -1;
     for (size_t k0 = 0; k0 < h.n; k0 += 4096) {
@@ -309,6 +350,14 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
                 }
                 p->groups[id] = (uint16_t)g;
                 if ((int)g > maxg) maxg = (int)g;
+            }
+            if (h.off[P_SHAPE] >= 0) {
+                double v = get_val(b + h.off[P_SHAPE], h.type[P_SHAPE]);
+                if (!(v >= 0 && v < h.nshapes)) {
+                    r = BAD("%s: vertex %zu: shape %g is not in 0..%u", path, k, v, h.nshapes - 1);
+                    goto done;
+                }
+                p->shape_index[id] = (uint8_t)v;
             }
         }
     }

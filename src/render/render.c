@@ -44,11 +44,17 @@ void vp_image_destroy(vp_image *img) {
 
 /* --- the scene: particles behind a uniform grid -------------------------- */
 
+/* One shape as the ray tests see it. */
+typedef struct render_kind {
+    const vp_polyhedron *poly; /* NULL: spheres (or a mesh) */
+    const vp_mesh_shape *mesh; /* a mesh shape (superballs: their tessellation), or NULL */
+    double inradius;
+} render_kind;
+
 typedef struct scene {
     const vp_particles *p;
-    const vp_polyhedron *poly; /* NULL: spheres (or a mesh) */
-    const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
-    double inradius;
+    render_kind kind[VP_MAX_SHAPES]; /* kind[0]; a mixed set: kind[shape_index] */
+    int mixed;
     int cut_axis;
     double cut_value;
     double bmin[3], bmax[3];   /* grid bounds */
@@ -242,7 +248,8 @@ static void intersect(const scene *S, uint32_t i, const double o[3], const doubl
     double t0 = -b - sq, t1 = -b + sq;
     if (t1 <= tmin || t0 >= h->t) return;
     double n[3];
-    if (S->mesh) {
+    const render_kind *K = &S->kind[S->mixed ? S->p->shape_index[i] : 0];
+    if (K->mesh) {
         /* in the shape's frame; a particle crossing the cut plane shows its
          * surface up to the plane, open (no cut face: a concave shape has
          * no single interval along the ray) */
@@ -258,14 +265,14 @@ static void intersect(const scene *S, uint32_t i, const double o[3], const doubl
         double ta = t0 > tmin ? t0 : tmin, tb = t1 < h->t ? t1 : h->t;
         int cut;
         if (!clip_cut(S, o, d, &ta, &tb, &cut)) return;
-        if (!vp_mesh_shape_ray(S->mesh, lo, ld, ta, tb, &th, ln)) return;
+        if (!vp_mesh_shape_ray(K->mesh, lo, ld, ta, tb, &th, ln)) return;
         for (int k = 0; k < 3; k++) n[k] = m[k][0] * ln[0] + m[k][1] * ln[1] + m[k][2] * ln[2];
         h->t = th;
         h->idx = i;
         memcpy(h->n, n, sizeof n);
         return;
     }
-    if (!S->poly) {
+    if (!K->poly) {
         int cut;
         if (!clip_cut(S, o, d, &t0, &t1, &cut)) return;
         if (!(t0 > tmin && t0 < h->t)) return;
@@ -286,12 +293,12 @@ static void intersect(const scene *S, uint32_t i, const double o[3], const doubl
             lo[k] = (m[0][k] * oc[0] + m[1][k] * oc[1] + m[2][k] * oc[2]) / r;
             ld[k] = (m[0][k] * d[0] + m[1][k] * d[1] + m[2][k] * d[2]) / r;
         }
-        const vp_polyhedron *P = S->poly;
+        const vp_polyhedron *P = K->poly;
         int face = -1;
         t0 = -HUGE_VAL;
         t1 = HUGE_VAL;
         for (int f = 0; f < P->nfaces; f++) {
-            double den = vp_dot3(P->normals[f], ld), num = S->inradius - vp_dot3(P->normals[f], lo);
+            double den = vp_dot3(P->normals[f], ld), num = K->inradius - vp_dot3(P->normals[f], lo);
             if (den == 0) {
                 if (num < 0) return;
                 continue;
@@ -694,22 +701,34 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: a %dx%d image needs more memory than "
                                                   "the limit", rp.width, rp.height);
 
-    if (p->shape == VP_SHAPE_MESH && !p->mesh)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "render: the particles are of a mesh shape: give the mesh (vdbpack render "
-                       "--shape FILE)");
     scene S;
     memset(&S, 0, sizeof S);
     S.p = p;
-    S.poly = p->has_orient || p->shape != VP_SHAPE_SPHERE ? vp_shape_polyhedron(p->shape) : NULL;
-    S.mesh = p->shape == VP_SHAPE_MESH        ? p->mesh
-             : p->shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(p->shape_param, NULL)
-                                              : NULL;
-    if (p->shape == VP_SHAPE_SUPERBALL && !S.mesh)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "render: a superball's exponent must be in [0.5, 1000], not %g",
-                       p->shape_param);
-    S.inradius = S.poly ? S.poly->inradius : 1.0;
+    S.mixed = p->shape == VP_SHAPE_MIXED;
+    if (S.mixed && (!p->shape_index || p->shape_count < 1 || p->shape_count > VP_MAX_SHAPES))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "render: a mixed set without its shapes");
+    for (size_t i = 0; S.mixed && i < p->count; i++)
+        if (p->shape_index[i] >= p->shape_count)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "render: particle %zu has shape %u of %u",
+                           i, (unsigned)p->shape_index[i], p->shape_count);
+    for (unsigned k = 0; k < (S.mixed ? p->shape_count : 1); k++) {
+        vp_shape_ref ref = S.mixed ? p->shapes[k] : vp_particles_shape_of(p, 0);
+        render_kind *K = &S.kind[k];
+        if (ref.shape == VP_SHAPE_MESH && !ref.mesh)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "render: the particles are of a mesh shape: give the mesh (vdbpack "
+                           "render --shape FILE)");
+        K->poly = p->has_orient || ref.shape != VP_SHAPE_SPHERE ? vp_shape_polyhedron(ref.shape)
+                                                                : NULL;
+        K->mesh = ref.shape == VP_SHAPE_MESH        ? ref.mesh
+                  : ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL)
+                                                    : NULL;
+        if (ref.shape == VP_SHAPE_SUPERBALL && !K->mesh)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "render: a superball's exponent must be in [0.5, 1000], not %g",
+                           ref.param);
+        K->inradius = K->poly ? K->poly->inradius : 1.0;
+    }
     S.cut_axis = rp.cut_axis;
     S.cut_value = rp.cut_value;
     vp_result r = scene_build(ctx, &S, limit - img_bytes);

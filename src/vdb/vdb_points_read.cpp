@@ -25,6 +25,7 @@ void free_particles(vp_particles *p)
     free(p->radii);
     free(p->orients);
     free(p->groups);
+    free(p->shape_index);
     free(p);
 }
 
@@ -35,14 +36,12 @@ struct Owner {
 
 // "superball:P" sets param to P (the exponent; checked by the readers'
 // users, as the library's shape functions refuse one out of range).
-bool shape_from(const openvdb::MetaMap &m, vp_shape &out, double &param)
+bool shape_text(const std::string &t, vp_shape &out, double &param)
 {
-    openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shape");
-    if (!s) return false;
-    if (s->value() == "mesh") { out = VP_SHAPE_MESH; return true; }
-    if (s->value().compare(0, 10, "superball:") == 0) {
+    if (t == "mesh" || t.compare(0, 5, "mesh:") == 0) { out = VP_SHAPE_MESH; return true; }
+    if (t.compare(0, 10, "superball:") == 0) {
         char *end = nullptr;
-        const char *v = s->value().c_str() + 10;
+        const char *v = t.c_str() + 10;
         double p = std::strtod(v, &end);
         if (end == v || *end != '\0' || !std::isfinite(p)) return false;
         out = VP_SHAPE_SUPERBALL;
@@ -50,8 +49,46 @@ bool shape_from(const openvdb::MetaMap &m, vp_shape &out, double &param)
         return true;
     }
     for (int i = 0; i < VP_SHAPE_COUNT; ++i)
-        if (s->value() == kShapeNames[i]) { out = vp_shape(i); return true; }
+        if (t == kShapeNames[i]) { out = vp_shape(i); return true; }
     return false;
+}
+
+bool shape_from(const openvdb::MetaMap &m, vp_shape &out, double &param)
+{
+    openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shape");
+    if (!s) return false;
+    if (s->value() == "mixed") { out = VP_SHAPE_MIXED; return true; }
+    if (s->value().compare(0, 5, "mesh:") == 0) return false; // only "mesh" names the one shape
+    return shape_text(s->value(), out, param);
+}
+
+// A mixed set's "shapes" ("sphere;cube;mesh:rock.obj") into P.shapes; false
+// when absent, empty, too long or naming an unknown shape.
+bool shapes_from(const openvdb::MetaMap &m, vp_particles &P)
+{
+    openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shapes");
+    if (!s) return false;
+    const std::string &v = s->value();
+    unsigned n = 0;
+    for (size_t a = 0;;) {
+        size_t b = v.find(';', a);
+        const std::string t = v.substr(a, b == std::string::npos ? std::string::npos : b - a);
+        if (n == VP_MAX_SHAPES) return false;
+        vp_shape sh;
+        double prm = 0.0;
+        if (!shape_text(t, sh, prm)) return false;
+        P.shapes[n].shape = sh;
+        P.shapes[n].param = sh == VP_SHAPE_SUPERBALL ? prm : 0.0;
+        P.shapes[n].mesh = nullptr;
+        P.shape_names[n][0] = 0;
+        if (sh == VP_SHAPE_MESH && t.size() > 5)
+            snprintf(P.shape_names[n], VP_SHAPE_NAME_MAX, "%s", t.c_str() + 5);
+        ++n;
+        if (b == std::string::npos) break;
+        a = b + 1;
+    }
+    P.shape_count = n;
+    return n > 0;
 }
 
 } // namespace
@@ -107,6 +144,10 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
             P.shape = sh;
             P.shape_param = sh == VP_SHAPE_SUPERBALL ? shp : 0.0;
         }
+        if (P.shape == VP_SHAPE_MIXED && !shapes_from(*grid, P) && !(fmeta && shapes_from(*fmeta, P)))
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        "%s: grid '%s' says shape \"mixed\" but its \"shapes\" metadata is missing "
+                        "or names an unknown shape", path, name.c_str());
 
         auto leaf0 = tree.cbeginLeaf();
         const size_t count = leaf0 ? size_t(vp::pointCount(tree)) : 0;
@@ -128,6 +169,15 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
         const bool id32 = iI != NONE && desc.valueType(iI) == openvdb::typeNameAsString<int32_t>();
         const bool id64 = iI != NONE && desc.valueType(iI) == openvdb::typeNameAsString<int64_t>();
         if (!id32 && !id64) iI = NONE;
+        size_t iS = desc.find("shape");
+        if (P.shape == VP_SHAPE_MIXED) {
+            if (iS == NONE || desc.valueType(iS) != openvdb::typeNameAsString<int32_t>())
+                return fail(err, errlen, VP_ERR_FORMAT,
+                            "%s: grid '%s' is a packing of several shapes without an int32 \"shape\" "
+                            "attribute", path, name.c_str());
+            P.shape_index = static_cast<uint8_t *>(malloc(count));
+            if (!P.shape_index) throw std::bad_alloc();
+        }
 
         // Output order: by id when the ids are a permutation of 0..count-1.
         std::vector<size_t> dest;
@@ -183,6 +233,8 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
             std::unique_ptr<vp::AttributeHandle<openvdb::math::Quats>> ho;
             if (iR != NONE) hr.reset(new vp::AttributeHandle<float>(leaf->constAttributeArray(iR)));
             if (iO != NONE) ho.reset(new vp::AttributeHandle<openvdb::math::Quats>(leaf->constAttributeArray(iO)));
+            std::unique_ptr<vp::AttributeHandle<int32_t>> hs;
+            if (P.shape_index) hs.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray(iS)));
             std::vector<vp::GroupHandle> gh;
             for (const auto &g : gs) gh.push_back(leaf->groupHandle(g.second));
             for (auto idx = leaf->beginIndexAll(); idx; ++idx, ++k) {
@@ -194,6 +246,14 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
                 P.positions[3 * d + 1] = w[1];
                 P.positions[3 * d + 2] = w[2];
                 if (hr) P.radii[d] = hr->get(*idx);
+                if (hs) {
+                    const int32_t v = hs->get(*idx);
+                    if (v < 0 || unsigned(v) >= P.shape_count)
+                        return fail(err, errlen, VP_ERR_FORMAT,
+                                    "%s: point %zu has shape %d, but the file names %u shapes", path,
+                                    d, int(v), P.shape_count);
+                    P.shape_index[d] = uint8_t(v);
+                }
                 if (ho) {
                     const openvdb::math::Quats q = ho->get(*idx);
                     for (int c = 0; c < 4; ++c) P.orients[4 * d + c] = q[c];

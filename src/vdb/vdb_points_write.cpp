@@ -42,6 +42,13 @@ struct Radii {
     void get(float &v, size_t n, openvdb::Index) const { v = r[n]; }
 };
 
+struct ShapeIndex {
+    using value_type = int32_t;
+    const uint8_t *k;
+    void get(int32_t &v, size_t n) const { v = k[n]; }
+    void get(int32_t &v, size_t n, openvdb::Index) const { v = k[n]; }
+};
+
 template <typename T>
 struct Ids {
     using value_type = T;
@@ -163,6 +170,16 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
                 return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu is in group %u of %u", i,
                             (unsigned)p->groups[i], ngroups);
 
+    if (p->shape == VP_SHAPE_MIXED) {
+        if (!p->shape_index || p->shape_count < 1 || p->shape_count > VP_MAX_SHAPES)
+            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                        "a mixed set needs its shape indices and 1..%d shapes", VP_MAX_SHAPES);
+        for (size_t i = 0; i < count; ++i)
+            if (p->shape_index[i] >= p->shape_count)
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu has shape %u of %u",
+                            i, unsigned(p->shape_index[i]), p->shape_count);
+    }
+
     vpv_init();
     return guard(path, Op::Write, err, errlen, [&]() -> int {
         const Positions pos{p->positions, count};
@@ -274,6 +291,11 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
                     vp::appendAttribute<openvdb::math::Quats>(
                         tree, "orient", openvdb::math::Quats(u[0], u[1], u[2], u[3]));
                 }
+            }
+            // shape: a mixed set's index into its "shapes" metadata
+            if (p->shape == VP_SHAPE_MIXED && p->shape_index) {
+                vp::appendAttribute<int32_t>(tree, "shape");
+                vp::populateAttribute(tree, itree, "shape", ShapeIndex{p->shape_index});
             }
             // groups
             for (const std::string &g : gnames) vp::appendGroup(tree, g);

@@ -53,6 +53,9 @@ def test_constants(layout):
         assert k["VP_SHAPE_" + name.upper().replace("-", "_")] == i
     assert k["VP_SHAPE_COUNT"] == len(_lib.SHAPES)
     assert k["VP_SHAPE_MESH"] == _lib.VP_SHAPE_MESH
+    assert k["VP_SHAPE_MIXED"] == _lib.VP_SHAPE_MIXED
+    assert k["VP_MAX_SHAPES"] == _lib.VP_MAX_SHAPES
+    assert k["VP_SHAPE_NAME_MAX"] == _lib.VP_SHAPE_NAME_MAX
     assert k["VP_LATTICE_DEFAULT"] == _lib.VP_LATTICE_DEFAULT
     for name, v in _lib.LATTICES.items():
         assert k["VP_LATTICE_" + name.upper()] == v
