@@ -91,7 +91,8 @@ echo "=== PLY and CSV round trips, render, shape-out, OBJ"
 "$VDBPACK" convert m.csv back_csv.vdb -q
 for f in back_ply.vdb back_csv.vdb; do
   "$VDBPACK" check "$f" --container box:1,1,1 --shape "$PEANUT" -q || die "check of $f"
-  vdb_print -m "$f" 2>&1 | grep -q "shape: mixed" || die "$f lost the shapes"
+  vdb_print -m "$f" >"$f.meta" 2>&1 # (not piped into grep -q: SIGPIPE under pipefail)
+  grep -q "shape: mixed" "$f.meta" || die "$f lost the shapes"
 done
 grep -aq "comment shapes cube;mesh:peanut.obj;sphere" m.ply || die "PLY shapes comment"
 echo "  ok: PLY and CSV read back, checked"
@@ -124,7 +125,7 @@ bad 2 "superball:nan" "${P[@]}" --pass count=5,radius=0.05,shape=superball:nan
 bad 2 "unknown solid" "${P[@]}" --pass count=5,radius=0.05,shape=dodecahedrone
 bad 1 "open mesh shape" "${P[@]}" --pass count=5,radius=0.05,shape=open.obj
 bad 2 "empty shape" "${P[@]}" --pass count=5,radius=0.05,shape=
-bad 2 "margin with a cube pass" "${P[@]}" --pass count=5,radius=0.05,shape=cube --margin 0.01
+bad 2 "gap with a mesh pass" "${P[@]}" --pass count=5,radius=0.05,shape="$PEANUT" --gap 0.01
 bad 2 "bbox with a pass shape" "${P[@]}" --pass count=5,radius=0.05,shape=cube --overlap bbox \
   --orient fixed
 bad 2 "lattice" "$VDBPACK" pack box:1,1,1 -o out.vdb --pass count=5,radius=0.05,shape=cube

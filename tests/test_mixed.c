@@ -516,14 +516,9 @@ static void test_refused(void) {
     ASSERT_FAILS(ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_rsa(ctx, c, &rp, &p, NULL));
     ps[1].shape = (vp_shape_ref){VP_SHAPE_MIXED, 0, NULL};
     ASSERT_FAILS(ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_rsa(ctx, c, &rp, &p, NULL));
-    /* a mixed set with a margin, a gap or the bounding-box test */
+    /* a mixed set with the bounding-box test (margin and gap:
+     * test_solid_margin_gap.c) */
     ps[1].shape = (vp_shape_ref){VP_SHAPE_CUBE, 0, NULL};
-    rp.margin = 0.01;
-    ASSERT_FAILS(ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_rsa(ctx, c, &rp, &p, NULL));
-    rp.margin = 0;
-    rp.gap = 0.001;
-    ASSERT_FAILS(ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_rsa(ctx, c, &rp, &p, NULL));
-    rp.gap = 0;
     rp.overlap = VP_OVERLAP_BBOX;
     rp.orient = VP_ORIENT_FIXED;
     ASSERT_FAILS(ctx, VP_ERR_INVALID_ARGUMENT, vp_pack_rsa(ctx, c, &rp, &p, NULL));

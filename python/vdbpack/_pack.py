@@ -441,9 +441,9 @@ def _prepare(method, options):
                 margin = v
             else:
                 gap = v
-    if (margin > 0 or gap > 0) and method == "rsa" and shape_id != 0:
-        raise ValueError("margin and gap pack spheres in this version, not shape=%r"
-                         % (shape_opt,))
+    if gap > 0 and method == "rsa" and shape_id is None:
+        raise ValueError("gap is kept between spheres, solids and superballs in this version, "
+                         "not a mesh shape (shape=%r; margin is)" % (shape_opt,))
     if method != "lattice":
         params.margin, params.gap = margin, gap
     return locals()
@@ -616,8 +616,8 @@ def pack(container, method="lattice", **options):
       count (N or "max") and grow, or count=N alone (the radius at which
       N fill target_fraction, default 0.3); retries; orient ("random",
       "fixed") and overlap ("exact", "bbox") for solids;
-    - rsa (spheres), relax, jam: margin and gap (world distances kept from
-      the wall and between surfaces);
+    - rsa, relax, jam: margin and gap (world distances kept from the wall
+      and between surfaces; rsa's gap not for mesh shapes);
     - relax: radius (a number or a distribution), count, target_fraction,
       tolerance, max_sweeps;
     - fields and masks (docs/fields.md): mask (all methods: a Container,

@@ -336,13 +336,17 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
             return vp_cli_die(2, "pack: with --pass, ask for growth in the pass (--pass "
                                  "count=N,radius=R,grow)");
         }
-        if ((o->margin > 0 || o->gap > 0) && o->shape != VP_SHAPE_SPHERE)
-            return vp_cli_die(2, "pack: --margin and --gap pack spheres in this version, not "
-                                 "--shape %s", o->shape_file ? o->shape_file
-                                                              : vp_shape_name(o->shape));
-        if ((o->margin > 0 || o->gap > 0) && any_solid(o))
-            return vp_cli_die(2, "pack: --margin and --gap pack spheres in this version, not "
-                                 "passes of other shapes (--pass shape=)");
+        /* a gap between solids is tested exactly on their shapes grown by
+         * half of it: convex ones (a mesh shape's is not offered) */
+        int mesh_pass = o->shape == VP_SHAPE_MESH;
+        for (int i = 0; i < o->npasses; i++)
+            mesh_pass |= o->passes[i].own_shape && o->passes[i].shape.shape == VP_SHAPE_MESH;
+        if (o->gap > 0 && mesh_pass)
+            return vp_cli_die(2, "pack: --gap is kept between spheres, solids and superballs in "
+                                 "this version, not mesh shapes (--margin is)");
+        if (o->gap > 0 && any_solid(o) && o->overlap == VP_OVERLAP_BBOX)
+            return vp_cli_die(2, "pack: --gap is kept by the exact overlap test, not with "
+                                 "--overlap bbox");
         if (o->pass_shapes && o->overlap == VP_OVERLAP_BBOX)
             return vp_cli_die(2, "pack: --overlap bbox takes one shape; passes with a shape= of "
                                  "their own are tested exactly");

@@ -49,28 +49,34 @@ static void orient_of(const vp_particles *p, size_t i, double q[4]) {
  * both centres that parts them gives the depth d (1 - g) / g. */
 static double mixed_gap(const chk *q, size_t i, size_t j, double *scale) {
     const vp_particles *p = q->p;
-    const vp_kind *ka = &q->kinds[p->shape_index[i]], *kb = &q->kinds[p->shape_index[j]];
+    const int one = p->shape != VP_SHAPE_MIXED; /* a gap between solids of one shape */
+    const vp_kind *ka = &q->kinds[one ? 0 : p->shape_index[i]],
+                  *kb = &q->kinds[one ? 0 : p->shape_index[j]];
+    const double G = q->prm->gap;
     const double *xi = p->positions + 3 * i, *xj = p->positions + 3 * j;
     double ri = q->r[i], rj = q->r[j], d2 = 0.0;
     for (int k = 0; k < 3; k++) d2 += (xi[k] - xj[k]) * (xi[k] - xj[k]);
     double d = sqrt(d2);
     if (!ka->poly && !ka->mesh && ka->shape == VP_SHAPE_SPHERE && kb->shape == VP_SHAPE_SPHERE) {
         *scale = ri + rj;
-        return d - ri - rj;
+        return d - ri - rj - G;
     }
     double qa[4], qb[4], g = 1.0 + q->prm->contact_tolerance;
     orient_of(p, i, qa);
     orient_of(p, j, qb);
     *scale = ri < rj ? ri : rj;
-    if (vp_kind_overlap(ka, ri, qa, xi, kb, rj, qb, xj)) {
+    if (vp_kind_overlap_gap(ka, ri, qa, xi, kb, rj, qb, xj, G)) {
+        /* closer than the gap: by how much, from the common shrink (of
+         * the shapes and the gap) that parts them */
         double lo = 0.0, hi = 1.0;
         for (int it = 0; it < 60; it++) {
             double m = 0.5 * (lo + hi);
-            if (vp_kind_overlap(ka, ri * m, qa, xi, kb, rj * m, qb, xj)) hi = m; else lo = m;
+            if (vp_kind_overlap_gap(ka, ri * m, qa, xi, kb, rj * m, qb, xj, G * m)) hi = m;
+            else lo = m;
         }
         return lo > 0 ? -d * (1.0 - lo) / lo : -(ri + rj);
     }
-    return vp_kind_overlap(ka, ri * g, qa, xi, kb, rj * g, qb, xj) ? 0.0 : HUGE_VAL;
+    return vp_kind_overlap_gap(ka, ri * g, qa, xi, kb, rj * g, qb, xj, G * g) ? 0.0 : HUGE_VAL;
 }
 
 static int pair_visit(void *user, uint32_t j) {
@@ -176,9 +182,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         !isfinite(params->gap))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: margin and gap must be finite and "
                                                      ">= 0");
-    if (params->gap > 0 && p->shape != VP_SHAPE_SPHERE)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: a gap is checked between spheres "
-                                                     "in this version");
+
     vp_check_report rep;
     memset(&rep, 0, sizeof rep);
     rep.count = p->count;
@@ -186,6 +190,16 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
     const vp_mesh_shape *mesh = p->shape == VP_SHAPE_MESH ? p->mesh : NULL;
     vp_kind kinds[VP_MAX_SHAPES];
+    /* a gap between solids: every pair through vp_kind_overlap_gap (the
+     * one-shape set as a table of one) */
+    int generic = p->shape == VP_SHAPE_MIXED ||
+                  (params->gap > 0 && p->shape != VP_SHAPE_SPHERE);
+    if (generic && p->shape != VP_SHAPE_MIXED &&
+        vp_kind_set(&kinds[0], vp_particles_shape_of(p, 0)) != 0)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       p->shape == VP_SHAPE_MESH
+                           ? "check: the particles are of a mesh shape: the mesh is needed"
+                           : "check: the particles' shape is not valid");
     if (p->shape == VP_SHAPE_MIXED) {
         if (!p->shape_index || p->shape_count < 1 || p->shape_count > VP_MAX_SHAPES)
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -206,6 +220,12 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     if (p->shape == VP_SHAPE_MESH && !mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "check: the particles are of a mesh shape: the mesh is needed");
+    for (unsigned k = 0; generic && params->gap > 0 &&
+                         k < (p->shape == VP_SHAPE_MIXED ? p->shape_count : 1); k++)
+        if (kinds[k].mesh)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "check: a gap is checked between convex shapes (spheres, solids, "
+                           "superballs) in this version, not mesh shapes");
     double sb = p->shape == VP_SHAPE_SUPERBALL ? p->shape_param : 0.0;
     if (p->shape == VP_SHAPE_SUPERBALL && !(sb >= VP_SUPERBALL_P_MIN && sb <= VP_SUPERBALL_P_MAX))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -258,8 +278,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
                 return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "check: out of memory for the grid");
             }
         }
-        chk q = {p, poly, mesh, sb, params, r, 2.0 * e, 0, &rep,
-                 p->shape == VP_SHAPE_MIXED ? kinds : NULL};
+        chk q = {p, poly, mesh, sb, params, r, 2.0 * e, 0, &rep, generic ? kinds : NULL};
         for (size_t i = 0; i < n; i++) {
             q.i = i;
             double reach = r[i] * (1.0 + params->contact_tolerance) + 2.0 * e +
@@ -294,12 +313,12 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         } else if (sb > 0) {
             double q[4], d = vp_container_distance(c, x);
             orient_of(p, i, q);
-            v = d + r[i] <= 0 ? d + r[i] : vp_superball_wall_distance(c, sb, r[i], q, x, HUGE_VAL);
+            v = d + r[i] <= -params->margin ? d + r[i] : vp_superball_wall_distance(c, sb, r[i], q, x, HUGE_VAL);
         } else if (mesh) {
             /* the packer's own shortcut: a bounding sphere inside passes */
             double q[4], d = vp_container_distance(c, x);
             orient_of(p, i, q);
-            v = d + r[i] <= 0 ? d + r[i] : vp_mesh_shape_wall_distance(c, mesh, r[i], q, x, HUGE_VAL);
+            v = d + r[i] <= -params->margin ? d + r[i] : vp_mesh_shape_wall_distance(c, mesh, r[i], q, x, HUGE_VAL);
         } else if (!poly) {
             v = vp_container_distance(c, x) + r[i];
         } else {

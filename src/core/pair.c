@@ -36,11 +36,25 @@ int vp_kind_set(vp_kind *k, vp_shape_ref ref) {
 
 int vp_kind_overlap(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
                     const vp_kind *kb, double sb, const double qb[4], const double tb[3]) {
+    return vp_kind_overlap_gap(ka, sa, qa, ta, kb, sb, qb, tb, 0.0);
+}
+
+int vp_kind_overlap_gap(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
+                        const vp_kind *kb, double sb, const double qb[4], const double tb[3],
+                        double gap) {
     double d2 = 0.0;
     for (int k = 0; k < 3; k++) d2 += (ta[k] - tb[k]) * (ta[k] - tb[k]);
-    double e = sa + sb, ein = ka->rin * sa + kb->rin * sb;
+    double e = sa + sb + gap, ein = ka->rin * sa + kb->rin * sb + gap;
     if (d2 >= e * e) return 0;     /* bounding spheres apart (or touching) */
     if (d2 < ein * ein) return 1;  /* inspheres overlap */
+    if (gap > 0) {
+        if (ka->mesh || kb->mesh) return 1; /* not offered: refuse */
+        vp_convex A, B;
+        vp_convex_set(&A, ka->shape, ka->param, sa, qa, ta, ta);
+        vp_convex_set(&B, kb->shape, kb->param, sb, qb, tb, ta);
+        A.inflate = B.inflate = 0.5 * gap;
+        return vp_convex_overlap(&A, &B);
+    }
     if (ka->mesh && kb->mesh)
         return vp_mesh_shape_overlap2(ka->mesh, sa, qa, ta, kb->mesh, sb, qb, tb, NULL);
     if (ka->mesh || kb->mesh) {

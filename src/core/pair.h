@@ -35,4 +35,12 @@ int vp_kind_set(vp_kind *k, vp_shape_ref ref);
  * the packers never let one through). Touching is not overlapping. */
 int vp_kind_overlap(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
                     const vp_kind *kb, double sb, const double qb[4], const double tb[3]);
+
+/* 1 if the two come closer than gap (>= 0; 0: vp_kind_overlap): the
+ * overlap of both grown by gap / 2 (Minkowski sums with a ball, by GJK on
+ * the grown support functions). Convex shapes only: a mesh shape with
+ * gap > 0 answers 1 (the packers refuse gaps for mesh shapes). */
+int vp_kind_overlap_gap(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
+                        const vp_kind *kb, double sb, const double qb[4], const double tb[3],
+                        double gap);
 #endif

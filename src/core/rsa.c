@@ -160,6 +160,10 @@ typedef struct rsa {
      * the wall beyond touching it: margin - gap_half with fit inside (its
      * surface, deflated, keeps margin), margin with fit center (its centre) */
     double margin, gap_half, wall_off;
+    double pair_gap;      /* solids (and every pass of a mixed set): the gap,
+                             tested exactly between the shapes grown by half
+                             of it (gap_half is then 0: a solid's scale is no
+                             offset of its surface) */
     /* the pass in progress */
     double rmin, rmax;    /* radius range of the pass */
     int pretest;          /* solids: the pass has one radius (rmin), so darts are
@@ -253,8 +257,8 @@ static inline void store_pos(rsa *s, size_t j, const double x[3]) {
  * overlaps particle j (radius rj) whatever the orientations: the sum of
  * the inspheres' radii. */
 static inline double excluded(const rsa *s, double r, size_t j, double rj) {
-    if (!s->mixed) return s->rin * (r + rj);
-    return s->rin * r + s->kinds[s->p->shape_index[j]].rin * rj;
+    if (!s->mixed) return s->rin * (r + rj) + s->pair_gap;
+    return s->rin * r + s->kinds[s->p->shape_index[j]].rin * rj + s->pair_gap;
 }
 
 /* --- neighbour tests ---------------------------------------------------------- */
@@ -402,16 +406,18 @@ static int solid_exact(solid_query *w, uint32_t j) {
         vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     }
     if (s->mixed && s->p->shape_index[j] != s->cur)
-        return vp_kind_overlap(&s->kinds[s->cur], w->r, cand_quat(w), w->x,
-                               &s->kinds[s->p->shape_index[j]], rj, qj, c);
+        return vp_kind_overlap_gap(&s->kinds[s->cur], w->r, cand_quat(w), w->x,
+                                   &s->kinds[s->p->shape_index[j]], rj, qj, c, s->pair_gap);
     if (s->mesh) return vp_mesh_shape_overlap(s->mesh, w->r, cand_quat(w), w->x, rj, qj, c, NULL);
     if (s->gjk) {
         if (!w->posed) { /* the candidate's support, posed once */
             vp_convex_set(&w->cand_sb, s->shape, s->sb, w->r, cand_quat(w), w->x, w->x);
+            w->cand_sb.inflate = 0.5 * s->pair_gap;
             w->posed = 1;
         }
         vp_convex o;
         vp_convex_set(&o, s->shape, s->sb, rj, qj, c, w->x);
+        o.inflate = 0.5 * s->pair_gap;
         return vp_convex_overlap(&w->cand_sb, &o);
     }
     /* the candidate is posed once for all its neighbours; both relative
@@ -439,13 +445,14 @@ static int solid_visit(void *user, uint32_t j) {
         d[k] = w->x[k] - c[k];
         d2 += d[k] * d[k];
     }
-    if (s->mixed) {
-        double ein = excluded(s, w->r, j, rj);
-        if (d2 < ein * ein) return 1;                  /* inspheres overlap */
-    } else if (d2 < s->rin * s->rin * e * e) {
-        return 1;                                      /* inspheres overlap */
+    if (s->mixed || s->pair_gap > 0) {
+        double ein = excluded(s, w->r, j, rj), eb = s->reach * e + s->pair_gap;
+        if (d2 < ein * ein) return 1;                  /* inspheres (with the gap) overlap */
+        if (d2 >= eb * eb) return 0;                   /* bounding spheres apart */
+    } else {
+        if (d2 < s->rin * s->rin * e * e) return 1;      /* inspheres overlap */
+        if (d2 >= s->reach * s->reach * e * e) return 0; /* bounding spheres (boxes) apart */
     }
-    if (d2 >= s->reach * s->reach * e * e) return 0;   /* bounding spheres (boxes) apart */
     if (s->bbox) { /* boxes apart on one axis (touching counts as apart) */
         for (int k = 0; k < 3; k++)
             if (w->x[k] + w->r * s->bb_lo[k] >= c[k] + rj * s->bb_hi[k] ||
@@ -476,10 +483,11 @@ static int solid_deferred(solid_query *w) {
 static int solid_fits_wall(const rsa *s, const double x[3], double d, const double q[4], double r) {
     if (d <= thr_ok(s, r)) return 1;
     if (s->fit == VP_FIT_CENTER || !(d <= thr_drop(s, r))) return 0;
-    if (s->mesh) return vp_mesh_shape_wall_distance(s->c, s->mesh, r, q, x, 0.0) <= 0.0;
-    if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, r, q, x, 0.0) <= 0.0;
+    const double m = -s->margin; /* the surface keeps the margin */
+    if (s->mesh) return vp_mesh_shape_wall_distance(s->c, s->mesh, r, q, x, m) <= m;
+    if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, r, q, x, m) <= m;
     if (!s->poly) return 0; /* a sphere of a mixed set: the thresholds decided */
-    return vp_poly_wall_distance(s->c, s->poly, r, q, x, 0.0) <= 0.0;
+    return vp_poly_wall_distance(s->c, s->poly, r, q, x, m) <= m;
 }
 
 /* 1 if the solid overlaps none of particles [from, count) (but skip).
@@ -506,7 +514,7 @@ static int solid_clear_from(const rsa *s, const double x[3], const double q[4], 
         return !solid_deferred(&w);
     }
     /* the grid finds j within reach + r_j: widen it for the boxes */
-    double reach = s->reach * r + (s->reach - 1.0) * s->max_r;
+    double reach = s->reach * r + (s->reach - 1.0) * s->max_r + s->pair_gap;
     /* own grid cell first: a candidate that fails mostly fails on a
      * particle there, and the verdict does not depend on the order */
     return !vp_sgrid_query_near(&s->g, x, reach, solid_visit, &w) && !solid_deferred(&w);
@@ -1747,10 +1755,11 @@ static void use_kind(rsa *s, unsigned k) {
     s->mesh = K->mesh;
     s->sb = K->shape == VP_SHAPE_SUPERBALL ? K->param : 0.0;
     s->shape = K->shape;
-    s->gjk = s->sb > 0 || vp_shape_overlap_by_gjk(K->shape);
+    /* a gap: GJK on the grown support functions for every solid */
+    s->gjk = s->sb > 0 || vp_shape_overlap_by_gjk(K->shape) || s->pair_gap > 0;
     s->rin = s->solid ? K->rin : 1.0;
     s->unit_volume = K->unit_volume;
-    s->cube = K->shape == VP_SHAPE_CUBE && !s->bbox && !s->mixed;
+    s->cube = K->shape == VP_SHAPE_CUBE && !s->bbox && !s->mixed && !(s->pair_gap > 0);
 }
 
 /* The passes' shapes: kinds[0..*nkinds) in the order the passes first use
@@ -1823,9 +1832,11 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         !isfinite(params->gap))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: margin and gap must be finite and >= 0 (world units)");
-    if ((params->margin > 0 || params->gap > 0) && (mixed || k0->shape != VP_SHAPE_SPHERE))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "rsa: a margin or gap packs spheres in this version");
+    for (unsigned k = 0; k < nkinds && params->gap > 0; k++)
+        if (kinds[k].mesh)
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "rsa: a gap between mesh shapes is not offered in this version (a "
+                           "margin is)");
     if ((params->radius_field || params->density_field) &&
         (mixed || k0->shape != params->shape || k0->mesh != params->mesh))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -1833,6 +1844,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        "not taken with them");
     if (params->radius_field || params->density_field) /* one radius per pass no more */
         return vp_rsa_fields_pack(ctx, c, params, out, report);
+    if (params->gap > 0 && k0->shape != VP_SHAPE_SPHERE && params->overlap == VP_OVERLAP_BBOX)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "rsa: a gap is kept by the exact test, not by bounding boxes");
     if (mixed && params->overlap == VP_OVERLAP_BBOX)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "rsa: the bounding-box overlap test takes one shape; passes of several "
@@ -1963,6 +1977,11 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     memcpy(s.kinds, kinds, sizeof kinds);
     s.solid = mixed || k0->shape != VP_SHAPE_SPHERE;
     s.bbox = s.solid && params->overlap == VP_OVERLAP_BBOX;
+    if (s.solid) { /* the gap between the surfaces, tested exactly */
+        s.pair_gap = params->gap;
+        s.gap_half = 0.0;
+        s.wall_off = s.margin;
+    }
     use_kind(&s, 0);
     {
         /* the solids' exact tests and the spheres' top balls allow for it */

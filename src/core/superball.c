@@ -119,6 +119,10 @@ void vp_convex_support(const vp_convex *c, const double d[3], double x[3]) {
     }
     for (int k = 0; k < 3; k++)
         x[k] = c->t[k] + c->scale * (c->m[k][0] * y[0] + c->m[k][1] * y[1] + c->m[k][2] * y[2]);
+    if (c->inflate > 0) {
+        double n = vp_norm3(d);
+        for (int k = 0; k < 3; k++) x[k] += n > 0 ? c->inflate * d[k] / n : 0.0;
+    }
 }
 
 static void mdiff(const vp_convex *a, const vp_convex *b, const double d[3], double w[3]) {

@@ -40,6 +40,10 @@ typedef struct vp_convex {
     double m[3][3];       /* rotation, local to world */
     double t[3];          /* the centre (a triangle: its centroid) */
     double tri[3][3];     /* kind 3: the corners, relative to the origin */
+    double inflate;       /* the shape grown by this distance (its Minkowski sum
+                             with a ball): a gap kept between two shapes is
+                             their overlap grown by half of it each; 0 after
+                             vp_convex_set */
 } vp_convex;
 void vp_convex_set(vp_convex *c, vp_shape shape, double p, double scale, const double q[4],
                    const double t[3], const double origin[3]);

@@ -4,11 +4,13 @@ radius (issue 31): the command line's particles for the same settings,
 both distances measured here with numpy against the analytic wall, and
 `vdbpack check` holding the Python-written file to the margin and gap its
 metadata records."""
+import os
+
 import numpy as np
 import pytest
 
 import vdbpack
-from conftest import assert_same_particles, run_cli
+from conftest import SAMPLES, assert_same_particles, run_cli
 
 CASES = [
     ("rsa", {"count": 500, "radius": 0.04}),
@@ -67,8 +69,8 @@ def test_rsa_count_without_radius(tmp_path):
 @pytest.mark.parametrize("kw,words", [
     ({"method": "rsa", "count": 10, "radius": 0.1, "target_fraction": 0.2}, "not both"),
     ({"method": "rsa", "count": "max"}, "needs radius"),
-    ({"method": "rsa", "count": 10, "radius": 0.1, "shape": "cube", "margin": 0.1},
-     "pack spheres"),
+    ({"method": "rsa", "count": 10, "radius": 0.1, "gap": 0.01,
+      "shape": os.path.join(SAMPLES, "peanut.obj")}, "not a mesh shape"),
     ({"method": "jam", "count": 10, "margin": -1}, ">= 0"),
     ({"method": "relax", "count": 10, "radius": 0.1, "gap": float("nan")}, "gap must be"),
     ({"method": "rsa", "count": 10, "gap": 0.5}, "smaller than the radius"),
