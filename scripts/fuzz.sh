@@ -33,6 +33,8 @@ if [ ! -f "$C/fuzz_vdb/levelset.vdb" ]; then
   if [ -x build/vdbpack ]; then
     build/vdbpack pack sphere:1 --radius 0.3 -o "$C/fuzz_vdb/points.vdb" -q
     build/vdbpack pack sphere:1 --radius 0.3 --shape cube -o "$C/fuzz_vdb/points_orient.vdb" -q
+    build/vdbpack pack sphere:1 --method rsa --pass count=6,radius=0.3,shape=cube \
+      --pass count=6,radius=0.2 -o "$C/fuzz_vdb/points_mixed.vdb" -q
     build/vdbpack pack vdb_samples/box.obj --radius 0.3 --voxel-size 0.2 -o "$B/x.vdb" --save-container "$C/fuzz_vdb/box_ls.vdb" -q
     rm -f "$B/x.vdb"
   fi
