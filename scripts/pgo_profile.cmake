@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 # Run by the build (VP_PGO in CMakeLists.txt): removes the profile (.gcda)
 # of an earlier run, runs the instrumented training program TRAIN, checks
-# that it wrote the profile the real library's build reads (PGO/rsa.c.gcda,
-# named after the -dumpbase both compiles of rsa.c get), keeps its report
+# that it wrote the profiles the real library's build reads (PGO/rsa.c.gcda
+# and PGO/rsa_split.c.gcda, named after the -dumpbase both compiles of each
+# get), keeps its report
 # in PGO/train.txt, and touches STAMP.
 file(GLOB old "${PGO}/*.gcda")
 if(old)
