@@ -254,6 +254,29 @@ def test_one_shape_passes_make_a_one_shape_packing():
         "mesh:box.obj"
 
 
+def test_a_mesh_file_in_two_passes_is_one_shape(tmp_path):
+    """Passes naming one file share its mesh (read once): one shape of the
+    set, as the command line's; the packing's call names MeshShapes by name."""
+    passes = ["count=8,radius=0.2,shape=" + PEANUT, "count=20,radius=0.1,shape=cube",
+              "count=30,radius=0.08,shape=" + PEANUT]
+    p = vdbpack.pack("sphere:1", method="rsa", passes=passes)
+    assert p.shapes == ["mesh:peanut.obj", "cube"]
+    assert [q["shape"] for q in p.report["passes"]] == ["mesh:peanut.obj", "cube",
+                                                        "mesh:peanut.obj"]
+    np.testing.assert_array_equal(np.bincount(p.shape_index), [38, 20])
+    args = [a for t in passes for a in ("--pass", t)]
+    run_cli("pack", "sphere:1", "--method", "rsa", *args, "-o", tmp_path / "cli.csv", "-q")
+    p.write(tmp_path / "py.csv")
+    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    ms = vdbpack.MeshShape.from_file(PEANUT)
+    q = vdbpack.pack("sphere:1", method="rsa", passes=[
+        {"count": 8, "radius": 0.2, "shape": ms}, "count=20,radius=0.1,shape=cube",
+        {"count": 30, "radius": 0.08, "shape": ms}])
+    assert q.mesh_shapes == [ms, None]
+    np.testing.assert_array_equal(q.positions, p.positions)
+    assert "'shape': 'peanut.obj'" in q.metadata["command_line"]
+
+
 def test_mesh_shape_objects_and_superballs(tmp_path):
     ms = vdbpack.MeshShape.from_file(BOX_OBJ)
     p = vdbpack.pack("sphere:1", method="rsa", seed=3, passes=[
