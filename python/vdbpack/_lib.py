@@ -401,6 +401,8 @@ for _name, _r, _a in [
         ("vp_container_save", _res, (_vp, _vp, _s)),
         ("vp_particles_destroy", None, (_P(vp_particles),)),
         ("vp_particles_volume", _d, (_P(vp_particles),)),
+        ("vp_particles_shape_list", _s, (_P(vp_particles), _s, _z)),
+        ("vp_particles_write_shapes_obj", _res, (_vp, _P(vp_particles), _s)),
         ("vp_lattice_params_init", None, (_P(vp_lattice_params),)),
         ("vp_lattice_fraction", _d, (_e, _e)),
         ("vp_lattice_fraction_param", _d, (_e, _d, _e)),

@@ -71,16 +71,21 @@ def _dist_text(d):
     return buf.value.decode()
 
 
+# the fields of a pass (the command line's --pass)
+_PASS_FIELDS = ("count", "radius", "retries", "grow", "name", "shape")
+
+
 def _parse_pass_text(text):
-    """'count=N|max,radius=R[,retries=K][,grow][,name=G]' as a dict."""
+    """'count=N|max,radius=R[,retries=K][,grow][,name=G][,shape=S]' as a
+    dict."""
     out = {}
     for tok in text.split(","):
         if not tok:
             raise ValueError("pass '%s': empty field (a stray comma)" % text)
         key, eq, val = tok.partition("=")
-        if key not in ("count", "radius", "retries", "grow", "name"):
-            raise ValueError("pass '%s': unknown field '%s' (count, radius, retries, grow, name)"
-                             % (text, key))
+        if key not in _PASS_FIELDS:
+            raise ValueError("pass '%s': unknown field '%s' (%s)"
+                             % (text, key, ", ".join(_PASS_FIELDS)))
         if key in out:
             raise ValueError("pass '%s': %s is given twice" % (text, key))
         if key == "grow":
@@ -100,10 +105,90 @@ def _parse_pass_text(text):
                 raise ValueError("pass '%s': retries must be a whole number in 1..1e9, not '%s'"
                                  % (text, val))
             out[key] = int(val)
+        elif key == "shape":
+            if not val:
+                raise ValueError("pass '%s': shape needs a value (a shape name, superball:P or "
+                                 "a closed mesh file)" % text)
+            out[key] = val
         else:
             if not eq:
                 raise ValueError("pass '%s': %s needs a value" % (text, key))
             out[key] = val
+    return out
+
+
+def _pass_shape(value, where, ps):
+    """A pass's own shape (the command line's --pass ...,shape=) into
+    ps.own_shape and ps.shape: a built-in name or "superball:P" (parsed by
+    the library); else a closed mesh file or a MeshShape, returned (the
+    file is read later, once, by _load_pass_shapes), with ps.shape.mesh
+    still NULL. Returns None for a built-in shape."""
+    if isinstance(value, MeshShape):
+        ps.own_shape, ps.shape.shape, ps.shape.param = 1, _lib.VP_SHAPE_MESH, 0.0
+        return value
+    if isinstance(value, os.PathLike):
+        value = os.fsdecode(os.fspath(value))
+    if not isinstance(value, str):
+        raise TypeError("%s: shape must be a shape name, 'superball:P', a closed mesh file or a "
+                        "vdbpack.MeshShape, not %r" % (where, value))
+    if not value:
+        raise ValueError("%s: shape needs a value (a shape name, superball:P or a closed mesh "
+                         "file)" % where)
+    try:
+        s = _packing.parse_shape(value)
+    except ValueError:
+        raise ValueError("%s: shape '%s': a superball's exponent P must be a number in [0.5, "
+                         "1000] (concave superballs, P < 0.5, are not offered)"
+                         % (where, value)) from None
+    ps.own_shape = 1
+    if s is not None and s[0] != _lib.VP_SHAPE_MESH:  # ("mesh" is a file's name here)
+        ps.shape.shape, ps.shape.param = s[0], s[1]
+        return None
+    ps.shape.shape, ps.shape.param = _lib.VP_SHAPE_MESH, 0.0
+    return value
+
+
+def _pass_shape_text(ps, spec):
+    """A pass's own shape as the .vdb's passes metadata writes it (the file
+    as given, or the MeshShape's name), or "" for a pass without one."""
+    if not ps.own_shape:
+        return ""
+    if ps.shape.shape == _lib.VP_SHAPE_MESH:
+        return spec.name if isinstance(spec, MeshShape) else spec
+    return shape_name(ps.shape.shape, ps.shape.param)
+
+
+def _load_pass_shapes(passes, specs, top_spec, top_mesh, threads, progress):
+    """Reads the passes' mesh files, each once (a pass naming the file of
+    shape= shares its mesh), and points the passes at them. Returns the
+    MeshShapes by pass (None for the others), which must outlive the
+    packing. Errors as the command line's: a name that is no shape and no
+    file, a mesh that cannot be a particle shape (open, ...)."""
+    loaded = {}
+    if top_mesh is not None and isinstance(top_spec, (str, os.PathLike)):
+        loaded[os.path.realpath(os.fsdecode(os.fspath(top_spec)))] = top_mesh
+    out = []
+    for k, spec in enumerate(specs):
+        m = None
+        if isinstance(spec, MeshShape):
+            m = spec
+        elif spec is not None:
+            key = os.path.realpath(spec)
+            m = loaded.get(key)
+            if m is None:
+                if not os.path.exists(spec):
+                    raise ValueError("passes[%d]: shape '%s' is no shape name (%s) and no file"
+                                     % (k, spec, _packing.SHAPE_HELP))
+                try:
+                    m = MeshShape.from_file(spec, threads=threads, progress=progress)
+                except _errors.CancelledError:
+                    raise
+                except _errors.Error as e:
+                    raise type(e)("passes[%d]: %s" % (k, e.message), e.code) from None
+                loaded[key] = m
+        if m is not None:
+            passes[k].shape.mesh = m._ptr.value
+        out.append(m)
     return out
 
 
@@ -113,12 +198,12 @@ def _rsa_pass(spec, k, retries):
     if isinstance(spec, str):
         spec = _parse_pass_text(spec)
     if not isinstance(spec, dict):
-        raise TypeError("%s must be a dict (count=, radius=, retries=, grow=, name=) or "
+        raise TypeError("%s must be a dict (count=, radius=, retries=, grow=, name=, shape=) or "
                         "'count=N,radius=R,...', not %r" % (where, spec))
     for key in spec:
-        if key not in ("count", "radius", "retries", "grow", "name"):
-            raise ValueError("%s: unknown field '%s' (count, radius, retries, grow, name)"
-                             % (where, key))
+        if key not in _PASS_FIELDS:
+            raise ValueError("%s: unknown field '%s' (%s)"
+                             % (where, key, ", ".join(_PASS_FIELDS)))
     if spec.get("count") is None or spec.get("radius") is None:
         raise ValueError("%s needs count (a whole number > 0, or 'max') and radius" % where)
     ps = _lib.vp_rsa_pass()
@@ -147,7 +232,9 @@ def _rsa_pass(spec, k, retries):
             raise ValueError("%s: name must be 1-31 letters, digits or _, not starting with __, "
                              "not %r" % (where, name))
         ps.name = name.encode()
-    return ps
+    shape = spec.get("shape")
+    mesh_spec = _pass_shape(shape, where, ps) if shape is not None else None
+    return ps, mesh_spec
 
 
 def _group(ps, k):
@@ -180,6 +267,17 @@ def _resolve_shape(shape, threads, progress):
     raise TypeError("shape must be a name, a mesh file or a vdbpack.MeshShape, not %r" % (shape,))
 
 
+def _pass_report_shape(ps, mesh, top_shape_text):
+    """A pass's shape as the command line's --json names it: "cube",
+    "superball:2", "mesh:NAME"; the passes without one of their own
+    top_shape_text."""
+    if not ps.own_shape:
+        return top_shape_text
+    if ps.shape.shape == _lib.VP_SHAPE_MESH:
+        return "mesh:" + mesh.name
+    return shape_name(ps.shape.shape, ps.shape.param)
+
+
 def _call_text(container, method, options):
     args = [repr(container.name if isinstance(container, Container) else
                  os.fsdecode(os.fspath(container)))]
@@ -189,6 +287,9 @@ def _call_text(container, method, options):
             continue
         if isinstance(v, MeshShape):
             v = v.name
+        elif k == "passes" and isinstance(v, (list, tuple)):
+            v = [{a: (b.name if isinstance(b, MeshShape) else b) for a, b in s.items()}
+                 if isinstance(s, dict) else s for s in v]
         args.append("%s=%r" % (k, v))
     return "vdbpack.pack(%s)" % ", ".join(args)
 
@@ -237,7 +338,8 @@ def _prepare(method, options):
                          "method='lattice' or 'rsa')" % (method, shape_opt))
     orient = given.get("orient")
     overlap = given.get("overlap")
-    if (orient is not None or overlap is not None) and shape_id == 0:
+    orient_given = orient is not None or overlap is not None
+    if orient_given and shape_id == 0 and method != "rsa":
         raise ValueError("orient and overlap go with method='rsa' and a shape other than sphere")
     orient = -1 if orient is None else _arrays.choice(orient, "orient", _lib.ORIENTS)
     overlap = -1 if overlap is None else _arrays.choice(overlap, "overlap", _lib.OVERLAPS)
@@ -271,6 +373,8 @@ def _prepare(method, options):
             given["radius"] = 1.0
             has_radius = True
     mesh = None
+    pass_shapes = pass_solid = False  # some pass has a shape of its own; one not a sphere
+    pass_meshes = []                  # by pass: a mesh file or MeshShape to load, or None
     if method == "lattice":
         lp = _lib.vp_lattice_params()
         lib.vp_lattice_params_init(ctypes.byref(lp))
@@ -363,7 +467,20 @@ def _prepare(method, options):
                 raise TypeError("grow must be True or False, not %r" % (given["grow"],))
         passes = (_lib.vp_rsa_pass * len(specs))()
         for k, s in enumerate(specs):
-            passes[k] = _rsa_pass(s, k, retries)
+            passes[k], ms = _rsa_pass(s, k, retries)
+            pass_meshes.append(ms)
+        pass_shapes = any(passes[k].own_shape for k in range(len(specs)))
+        pass_solid = any(passes[k].own_shape and passes[k].shape.shape != _lib.VP_SHAPE_SPHERE
+                         for k in range(len(specs)))
+        if orient_given and shape_id == 0 and not pass_solid:
+            raise ValueError("orient and overlap go with method='rsa' and a shape (or a pass's "
+                             "shape) other than sphere")
+        if pass_shapes and overlap == 1:
+            raise ValueError("overlap='bbox' takes one shape; passes with a shape of their own "
+                             "are tested exactly")
+        if pass_shapes and ("radius_field" in given or "density_field" in given):
+            raise ValueError("radius_field and density_field pack spheres in this version, not "
+                             "passes with a shape of their own")
         for i in range(len(specs)):
             for k in range(i):
                 if _group(passes[k], k) == _group(passes[i], i):
@@ -441,9 +558,9 @@ def _prepare(method, options):
                 margin = v
             else:
                 gap = v
-    if gap > 0 and method == "rsa" and shape_id is None:
+    if gap > 0 and method == "rsa" and (shape_id is None or any(m is not None for m in pass_meshes)):
         raise ValueError("gap is kept between spheres, solids and superballs in this version, "
-                         "not a mesh shape (shape=%r; margin is)" % (shape_opt,))
+                         "not a mesh shape (shape=%r or a pass's mesh; margin is)" % (shape_opt,))
     if method != "lattice":
         params.margin, params.gap = margin, gap
     return locals()
@@ -611,8 +728,10 @@ def pack(container, method="lattice", **options):
     - lattice: radius or count, lattice ("sc", "bcc", "fcc", "hcp",
       "densest"), offsets, rotate, rotations;
     - rsa: passes (a list of dicts with count (N or "max"), radius (a
-      number or a distribution string), retries, grow, name; or the command
-      line's 'count=N,radius=R,grow' texts), or for one pass radius with
+      number or a distribution string), retries, grow, name, shape (the
+      pass's own: a name, "superball:P", a closed mesh file or a MeshShape;
+      passes of several shapes make a "mixed" Packing); or the command
+      line's 'count=N,radius=R,grow,shape=cube' texts), or for one pass radius with
       count (N or "max") and grow, or count=N alone (the radius at which
       N fill target_fraction, default 0.3); retries; orient ("random",
       "fixed") and overlap ("exact", "bbox") for solids;
@@ -640,11 +759,16 @@ def pack(container, method="lattice", **options):
 
     # -- the particle shape first: a bad shape file fails before a long
     # voxelization (as the command line)
+    pass_mesh_shapes = []
     if method == "rsa":
         sid, shape_param, mesh = _resolve_shape(shape_opt, threads, progress)
         params.shape, params.shape_param = sid, shape_param
         params.mesh = mesh._ptr.value if mesh is not None else None
         shape_id = sid
+        # the passes' own mesh shapes, each file read once (kept alive by
+        # pass_mesh_shapes until the packing holds them)
+        pass_mesh_shapes = _load_pass_shapes(params.passes, j["pass_meshes"], shape_opt, mesh,
+                                             threads, progress)
 
     # -- fields, before the container (a radius field sizes its band) -------
     rf = _Field(given["radius_field"], "radius_field") if "radius_field" in given else None
@@ -769,7 +893,8 @@ def pack(container, method="lattice", **options):
                 "%s (load it with the largest particle radius: Container.from_file(..., "
                 "particle_radius=R) or from_mesh(..., particle_radius=R), or give pack() the "
                 "path)" % e.message, e.code) from None
-        packing = Packing._from_c(out, mesh)
+        known = [m for m in [mesh] + pass_mesh_shapes if m is not None]
+        packing = Packing._from_c(out, mesh, meshes={m._ptr.value: m for m in known})
         volume = lib.vp_particles_volume(out)
     finally:
         lib.vp_particles_destroy(out)
@@ -777,6 +902,14 @@ def pack(container, method="lattice", **options):
 
     # -- report and metadata, as the command line's --json and .vdb --------
     shape_text = shape_name(shape_id, shape_param)  # "cube", "superball:2" (vp_shape_format)
+    # the shape of the passes without their own, as the command line's
+    # --json names it
+    top_shape_text = "mesh:" + mesh.name if mesh is not None else shape_text
+    if j["pass_shapes"]:
+        # the shapes the passes made: "mixed" for several (as the command
+        # line), else the one shape, whose mesh is then the result's
+        shape_text = packing.shape
+        mesh = packing.mesh_shape if packing.shape == "mesh" else None
     r = Report(method=method, shape=shape_text, fit="inside" if fit == 0 else "center",
                seed=seed, count=len(packing))
     if method == "lattice":
@@ -793,13 +926,14 @@ def pack(container, method="lattice", **options):
     else:
         max_radius = float(packing.radii.max()) if len(packing) else 0.0
     if method == "rsa":
-        if shape_id != 0:
+        if shape_text != "sphere":
             r.update(orient="fixed" if orient == 1 else "random",
                      overlap="bbox" if overlap == 1 else "exact")
         r["passes"] = []
         for i in range(rep.npasses):
             pr = rep.passes[i]
             r["passes"].append(Report(
+                shape=_pass_report_shape(params.passes[i], pass_mesh_shapes[i], top_shape_text),
                 group=packing.group_names[i] if i < len(packing.group_names) else _group(
                     params.passes[i], i),
                 radius=_dist_text(params.passes[i].radius), requested=pr.requested,
@@ -831,6 +965,10 @@ def pack(container, method="lattice", **options):
              voxel_size=ci["voxel_size"], voxel_reason=ci["voxel_reason"])
     if mesh is not None:
         r.update(shape_file=mesh.name, shape_triangles=mesh.triangles)
+    if packing.shape == "mixed":  # as the command line's --json: each shape and its count
+        counts = np.bincount(packing.shape_index, minlength=len(packing.shapes))
+        r["shapes"] = [Report(shape=name, count=int(counts[k]))
+                       for k, name in enumerate(packing.shapes)]
 
     md = {
         "creator": "vdbpack " + _lib.VERSION,
@@ -843,6 +981,8 @@ def pack(container, method="lattice", **options):
     }
     if mesh is not None:
         md["shape_file"] = mesh.name
+    if packing.shape == "mixed":
+        md["shapes"] = ";".join(packing.shapes)
     if method != "lattice":
         # what `vdbpack check` holds the file to by default
         if params.margin > 0:
@@ -874,12 +1014,13 @@ def pack(container, method="lattice", **options):
         md.update(lattice=label, radius=rep.radius)
     elif method == "rsa":
         md["passes"] = ";".join(
-            "count=%s,radius=%s,retries=%d%s%s" % (
+            "count=%s,radius=%s,retries=%d%s%s%s" % (
                 "max" if ps.maximal else ps.count, _dist_text(ps.radius),
                 ps.retries or _lib.VP_RSA_DEFAULT_RETRIES, ",grow" if ps.grow else "",
-                ",name=" + ps.name.decode() if ps.name else "")
-            for ps in params.passes[:params.npasses])
-        if shape_id != 0:
+                ",name=" + ps.name.decode() if ps.name else "",
+                ",shape=" + _pass_shape_text(ps, spec) if ps.own_shape else "")
+            for ps, spec in zip(params.passes[:params.npasses], j["pass_meshes"]))
+        if shape_text != "sphere":
             md["orient"] = "fixed" if orient == 1 else "random"
             md["overlap"] = "bbox" if overlap == 1 else "exact"
     elif method == "jam":

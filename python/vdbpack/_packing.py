@@ -60,12 +60,50 @@ def parse_shape(text):
     return sid.value, param.value, shape_name(sid.value, param.value)
 
 
+def _ref_name(shape_id, param, mesh, recorded=""):
+    """One shape of a mixed set as vp_particles_shape_list names it:
+    "cube", "superball:2", "mesh:NAME" (the MeshShape's name, else the
+    name the file recorded), or "mesh"."""
+    if shape_id == _lib.VP_SHAPE_MESH:
+        if mesh is not None:
+            return "mesh:" + mesh.name
+        return "mesh:" + recorded if recorded else "mesh"
+    return shape_name(shape_id, param)
+
+
+def _mesh_ptr_name(ptr):
+    return lib.vp_mesh_shape_name(ptr).decode("utf-8", "replace")
+
+
 def _known_shape(text, also=""):
     """parse_shape, raising ValueError for a text that names no built-in shape."""
     s = parse_shape(text)
     if s is None:
         raise ValueError("unknown shape '%s' (%s%s)" % (text, SHAPE_HELP, also))
     return s
+
+
+def _shape_arrays(s, param, ptr):
+    """vp_shape_mesh of one shape as (vertices, faces)."""
+    n = [ctypes.c_size_t(0) for _ in range(3)]
+    _call.quick(lambda ctx: lib.vp_shape_mesh(ctx, s, param, ptr, None, ctypes.byref(n[0]),
+                                              None, ctypes.byref(n[1]), None,
+                                              ctypes.byref(n[2])))
+    v = np.empty((n[0].value, 3), np.float64)
+    sizes = np.empty(n[1].value, np.uint32)
+    idx = np.empty(n[2].value, np.uint32)
+    _call.quick(lambda ctx: lib.vp_shape_mesh(
+        ctx, s, param, ptr, v.ctypes.data, ctypes.byref(n[0]), sizes.ctypes.data,
+        ctypes.byref(n[1]), idx.ctypes.data, ctypes.byref(n[2])))
+    ends = np.cumsum(sizes.astype(np.int64))
+    return v, [idx[e - k:e].tolist() for e, k in zip(ends, sizes.astype(np.int64))]
+
+
+def _shape_list(c):
+    """vp_particles_shape_list of the set c: "cube;mesh:rock.obj;sphere"."""
+    buf = ctypes.create_string_buffer(4096)
+    lib.vp_particles_shape_list(ctypes.byref(c), buf, len(buf))
+    return buf.value.decode("utf-8", "replace")
 
 
 class Report(dict):
@@ -114,7 +152,14 @@ class Packing:
     - ``shape``: as files record it: "sphere", a solid of vdbpack.SHAPES
       ("cube", "snub-cube", ...), "superball:P" with its exponent, or
       "mesh" (then ``mesh_shape`` is the MeshShape, or None when read from
-      a file and not given);
+      a file and not given), or "mixed": particles of several shapes (rsa
+      passes with shapes of their own), then
+    - ``shapes``: the shapes' names in index order, as files record them
+      ("cube", "superball:2", "mesh:rock.obj"), ``shape_index`` (N,)
+      uint8: each particle's index into them, and ``mesh_shapes``: a list
+      aligned with ``shapes``, the MeshShape of each mesh shape (None for
+      the others, and for a mesh shape read from a file and not given).
+      All three are None for a packing of one shape;
     - ``report``: the packer's figures (dict), ``metadata``: what a .vdb
       records (dict), ``method``, ``fraction`` (particle volume / container
       volume, when the container is known), ``position_error`` (read from a
@@ -126,7 +171,8 @@ class Packing:
     """
 
     def __init__(self, positions, radii, orient=None, groups=None, group_names=None,
-                 shape="sphere", mesh_shape=None):
+                 shape="sphere", mesh_shape=None, shapes=None, shape_index=None,
+                 mesh_shapes=None):
         self.positions = _arrays.points(positions, "positions", allow_empty=True)
         n = len(self.positions)
         r = np.asarray(radii, dtype=np.float64) if not isinstance(radii, numbers.Real) else \
@@ -139,6 +185,20 @@ class Packing:
             mesh_shape, shape = shape, "mesh"
         self.shape = shape
         self.mesh_shape = mesh_shape
+        # a mixed set: shapes may name a mesh shape by its MeshShape
+        if shapes is not None:
+            shapes = list(shapes)
+            ms = list(mesh_shapes) if mesh_shapes is not None else [None] * len(shapes)
+            if len(ms) != len(shapes):
+                raise ValueError("mesh_shapes must be aligned with shapes (%d), not hold %d"
+                                 % (len(shapes), len(ms)))
+            for k, v in enumerate(shapes):
+                if isinstance(v, _container.MeshShape):
+                    shapes[k], ms[k] = "mesh:" + v.name, v
+            mesh_shapes = ms
+        self.shapes = shapes
+        self.shape_index = None if shape_index is None else np.asarray(shape_index)
+        self.mesh_shapes = mesh_shapes
         self.report = Report()
         self.metadata = {}
         self.method = None
@@ -150,8 +210,10 @@ class Packing:
     # -- conversion from and to the library's particle sets ----------------
 
     @classmethod
-    def _from_c(cls, p, mesh_shape=None):
-        """Copies the library's set *p (a POINTER(vp_particles))."""
+    def _from_c(cls, p, mesh_shape=None, meshes=None):
+        """Copies the library's set *p (a POINTER(vp_particles)). meshes:
+        {mesh pointer: MeshShape} of the mesh shapes the set may point to
+        (a mixed set's, or a one-shape set's when mesh_shape is None)."""
         q = p.contents
         n = q.count
 
@@ -170,8 +232,26 @@ class Packing:
             np.zeros(n, np.int32)
         names = [q.group_names[i].value.decode("utf-8", "replace")
                  for i in range(max(1, min(q.group_count, _lib.VP_MAX_GROUPS)))]
+        meshes = meshes or {}
+        if q.shape == _lib.VP_SHAPE_MESH and q.mesh in meshes:
+            mesh_shape = meshes[q.mesh]  # (a pass's own, perhaps not shape='s)
+        shapes = shape_index = mesh_shapes = None
+        if q.shape == _lib.VP_SHAPE_MIXED:
+            k = min(q.shape_count, _lib.VP_MAX_SHAPES)
+            mesh_shapes = [meshes.get(q.shapes[i].mesh) if q.shapes[i].mesh else None
+                           for i in range(k)]
+            shapes = []
+            for i in range(k):
+                ref = q.shapes[i]
+                name = _ref_name(ref.shape, ref.param, None,
+                                 q.shape_names[i].value.decode("utf-8", "replace"))
+                if ref.shape == _lib.VP_SHAPE_MESH and ref.mesh:
+                    name = "mesh:" + _mesh_ptr_name(ref.mesh)
+                shapes.append(name)
+            shape_index = arr(q.shape_index, np.uint8, n)
         self = cls(pos, radii, orient, groups, names, shape_name(q.shape, q.shape_param),
-                   mesh_shape if q.shape == _lib.VP_SHAPE_MESH else None)
+                   mesh_shape if q.shape == _lib.VP_SHAPE_MESH else None, shapes, shape_index,
+                   mesh_shapes)
         self.position_error = q.position_error
         return self
 
@@ -194,9 +274,11 @@ class Packing:
                                 float(radii[~((radii > 0) & np.isfinite(radii))][0])))
         shape = self.shape
         if not isinstance(shape, str):
-            raise TypeError("shape must be a str (a name such as 'cube' or 'superball:2', or "
-                            "'mesh'), not %r" % (shape,))
-        shape_id, shape_param, _ = _known_shape(shape, ", mesh")
+            raise TypeError("shape must be a str (a name such as 'cube' or 'superball:2', "
+                            "'mesh' or 'mixed'), not %r" % (shape,))
+        mixed = shape == "mixed"
+        shape_id, shape_param, _ = (_lib.VP_SHAPE_MIXED, 0.0, "mixed") if mixed else \
+            _known_shape(shape, ", mesh, mixed")
         mesh = self.mesh_shape
         if shape == "mesh" and need_mesh and mesh is None:
             raise ValueError("%s packing holds particles of a mesh shape%s: set its mesh_shape "
@@ -242,6 +324,7 @@ class Packing:
         c.shape = shape_id
         c.shape_param = shape_param
         c.mesh = mesh._ptr.value if (shape == "mesh" and mesh is not None) else None
+        mixed_keep = self._mixed_c(c, n, need_mesh, what) if mixed else None
         if n and np.any(groups != 0):
             c.groups = groups.ctypes.data_as(ctypes.POINTER(ctypes.c_uint16))
         c.group_count = len(names)
@@ -249,7 +332,78 @@ class Packing:
             c.group_names[i].value = _arrays.text(name, "group_names[%d]" % i,
                                                   _lib.VP_GROUP_NAME_MAX)
         c.position_error = float(self.position_error or 0.0)
-        return c, [pos, radii, orient, groups, mesh]
+        return c, [pos, radii, orient, groups, mesh, mixed_keep]
+
+    def _mixed_refs(self):
+        """A mixed set's shapes checked: [(vp_shape, exponent, MeshShape or
+        None, recorded mesh name)] in index order."""
+        shapes = self.shapes
+        if isinstance(shapes, str) or not isinstance(shapes, (list, tuple)):
+            raise TypeError("a packing of shape 'mixed' needs shapes, a list of shape names "
+                            "('cube', 'superball:2', 'mesh:rock.obj'), not %r" % (shapes,))
+        if not 1 <= len(shapes) <= _lib.VP_MAX_SHAPES:
+            raise ValueError("shapes must hold 1 to %d shapes, not %d"
+                             % (_lib.VP_MAX_SHAPES, len(shapes)))
+        ms = self.mesh_shapes
+        if ms is None:
+            ms = [None] * len(shapes)
+        if not isinstance(ms, (list, tuple)) or len(ms) != len(shapes):
+            raise ValueError("mesh_shapes must be a list aligned with shapes (%d entries), not %r"
+                             % (len(shapes), ms))
+        out = []
+        for k, (name, m) in enumerate(zip(shapes, ms)):
+            if m is not None and not isinstance(m, _container.MeshShape):
+                raise TypeError("mesh_shapes[%d] must be a vdbpack.MeshShape or None, not %r"
+                                % (k, m))
+            if not isinstance(name, str):
+                raise TypeError("shapes[%d] must be a shape name, not %r" % (k, name))
+            if name == "mesh" or name.startswith("mesh:"):
+                out.append((_lib.VP_SHAPE_MESH, 0.0, m, name[5:]))
+                continue
+            if m is not None:
+                raise ValueError("mesh_shapes[%d] is a MeshShape but shapes[%d] is %r, not a "
+                                 "mesh shape ('mesh:NAME')" % (k, k, name))
+            s = parse_shape(name)
+            if s is None or s[0] == _lib.VP_SHAPE_MESH:
+                raise ValueError("shapes[%d]: unknown shape '%s' (%s, mesh:NAME)"
+                                 % (k, name, SHAPE_HELP))
+            out.append((s[0], s[1], None, ""))
+        return out
+
+    def _mixed_c(self, c, n, need_mesh, what):
+        """Fills a mixed set's shape_index, shapes and shape_names into c;
+        returns what must stay alive."""
+        refs = self._mixed_refs()
+        if need_mesh:
+            missing = [k for k, r in enumerate(refs) if r[0] == _lib.VP_SHAPE_MESH and
+                       r[2] is None]
+            if missing:
+                raise ValueError("%s packing holds particles of mesh shapes (%s): set its "
+                                 "mesh_shapes[%s] (vdbpack.MeshShape.from_file(...)) or read it "
+                                 "with shape=[MeshShape, ...], one per mesh shape in the order "
+                                 "of its shapes"
+                                 % (what, ", ".join(self.shapes[k] for k in missing),
+                                    ", ".join(str(k) for k in missing)))
+        si = np.asarray(self.shape_index) if self.shape_index is not None else None
+        if si is None or si.shape != (n,) or (n and si.dtype.kind not in "iu"):
+            raise ValueError("shape_index must be %d integer indices into shapes, not %s"
+                             % (n, "None" if si is None else "%s of %s" % (si.shape, si.dtype)))
+        if n and (int(si.min()) < 0 or int(si.max()) >= len(refs)):
+            raise ValueError("shape_index must hold indices into shapes (0..%d), not %d"
+                             % (len(refs) - 1, int(si.min()) if si.min() < 0 else int(si.max())))
+        si = np.require(si, np.uint8, ["C_CONTIGUOUS", "ALIGNED"])
+        if n:
+            c.shape_index = si.ctypes.data_as(ctypes.POINTER(ctypes.c_uint8))
+        c.shape_count = len(refs)
+        for k, (sid, param, m, recorded) in enumerate(refs):
+            c.shapes[k].shape, c.shapes[k].param = sid, param
+            c.shapes[k].mesh = m._ptr.value if m is not None else None
+            b = recorded.encode("utf-8", "replace")[:_lib.VP_SHAPE_NAME_MAX - 1]
+            c.shape_names[k].value = b
+        if not c.has_orient:  # (every particle of a mixed set has an orientation)
+            c.has_orient = 1
+        c.mesh = None
+        return [si, refs]
 
     # -- the basics --------------------------------------------------------
 
@@ -262,6 +416,9 @@ class Packing:
         return np.arange(len(self), dtype=np.int32)
 
     def __repr__(self):
+        if self.shape == "mixed":
+            return "<vdbpack.Packing of %d particle%s of %d shapes>" % (
+                len(self), "" if len(self) == 1 else "s", len(self.shapes or ()))
         return "<vdbpack.Packing of %d %s%s>" % (len(self), self.shape,
                                                  "" if len(self) == 1 else "s")
 
@@ -307,6 +464,10 @@ class Packing:
         c, keep = self._c(need_mesh=fmt == _lib.FORMATS["obj"], what="an .obj of this")
         meta = dict(self.metadata)
         meta["particle_count"] = len(self)
+        if c.shape == _lib.VP_SHAPE_MIXED:  # the shapes the "shape" attribute indexes
+            meta["shapes"] = _shape_list(c)
+        else:
+            meta.pop("shapes", None)
         if metadata is not None:
             if not isinstance(metadata, dict):
                 raise TypeError("metadata must be a dict, not %r" % (metadata,))
@@ -336,8 +497,15 @@ class Packing:
     def write_shape(self, path):
         """Writes the unit particle shape (circumradius 1, centroid at the
         origin, the orientation identity means) as OBJ, for instancing:
-        the command line's --shape-out."""
+        the command line's --shape-out. A packing of several shapes writes
+        them all to one OBJ, group shapeK for shape K (its shape_index;
+        spheres as icospheres: vp_particles_write_shapes_obj)."""
         p = _arrays.path(path)
+        if self.shape == "mixed":
+            c, keep = self._c(need_mesh=True, what="to write the shapes of this")
+            _call.quick(lambda ctx: lib.vp_particles_write_shapes_obj(ctx, ctypes.byref(c), p))
+            del keep
+            return None
         if self.shape == "mesh":
             if self.mesh_shape is None:
                 raise ValueError("this packing holds particles of a mesh shape: set its "
@@ -346,13 +514,31 @@ class Packing:
         s, param, _ = _known_shape(self.shape)
         _call.quick(lambda ctx: lib.vp_shape_write_obj_param(ctx, s, param, p))
 
-    def shape_mesh(self):
+    def shape_mesh(self, index=None):
         """The unit particle shape that write_shape writes, as arrays
         (vp_shape_mesh, no file): vertices (V, 3) float64 and faces, a list
         of lists of vertex indices, each counter-clockwise seen from
         outside (a solid's polygons; a superball's or a mesh shape's
         triangles). ValueError for spheres, which have no polygons
-        (instance a sphere of radius 1)."""
+        (instance a sphere of radius 1). A packing of several shapes:
+        index K gives shapes[K]'s."""
+        if self.shape == "mixed":
+            if index is None:
+                raise ValueError("this packing holds several shapes (%s): give shape_mesh the "
+                                 "index of one" % ";".join(self.shapes or ()))
+            refs = self._mixed_refs()
+            k = _arrays.whole(index, "index", 0, len(refs) - 1)
+            s, param, m, _ = refs[k]
+            if s == _lib.VP_SHAPE_MESH and m is None:
+                raise ValueError("shape %d (%s) is a mesh shape: set mesh_shapes[%d] first"
+                                 % (k, self.shapes[k], k))
+            if s == _lib.VP_SHAPE_SPHERE:
+                raise ValueError("shape %d is a sphere, which has no polygons (instance a sphere "
+                                 "of radius 1)" % k)
+            return _shape_arrays(s, param, m._ptr.value if m is not None else None)
+        if index is not None:
+            raise ValueError("index is for packings of several shapes; this one holds %ss"
+                             % self.shape)
         if self.shape == "mesh":
             if self.mesh_shape is None:
                 raise ValueError("this packing holds particles of a mesh shape: set its "
@@ -361,18 +547,7 @@ class Packing:
         else:
             s, param, _ = _known_shape(self.shape)
             ptr = None
-        n = [ctypes.c_size_t(0) for _ in range(3)]
-        _call.quick(lambda ctx: lib.vp_shape_mesh(ctx, s, param, ptr, None, ctypes.byref(n[0]),
-                                                  None, ctypes.byref(n[1]), None,
-                                                  ctypes.byref(n[2])))
-        v = np.empty((n[0].value, 3), np.float64)
-        sizes = np.empty(n[1].value, np.uint32)
-        idx = np.empty(n[2].value, np.uint32)
-        _call.quick(lambda ctx: lib.vp_shape_mesh(
-            ctx, s, param, ptr, v.ctypes.data, ctypes.byref(n[0]), sizes.ctypes.data,
-            ctypes.byref(n[1]), idx.ctypes.data, ctypes.byref(n[2])))
-        ends = np.cumsum(sizes.astype(np.int64))
-        return v, [idx[e - k:e].tolist() for e, k in zip(ends, sizes.astype(np.int64))]
+        return _shape_arrays(s, param, ptr)
 
     # -- checking ----------------------------------------------------------
 
@@ -646,6 +821,34 @@ def _ply_meta(path_bytes):
     return meta
 
 
+def _attach_meshes(packing, name, shape, meshes):
+    """read() of a mixed set: the MeshShapes given, one per mesh shape in
+    the order of its shapes (as the command line's --shape, with its
+    warning for a name other than the recorded one)."""
+    if shape is not None:
+        raise ValueError("%s records its shapes (%s); shape=%r is for a .csv of one shape"
+                         % (name, ";".join(packing.shapes), shape))
+    if meshes is None:
+        return
+    want = [k for k, n in enumerate(packing.shapes) if n == "mesh" or n.startswith("mesh:")]
+    if len(meshes) != len(want):
+        if not want:
+            raise ValueError("%s holds no mesh shape (%s): shape=MeshShape is for packings with "
+                             "mesh shapes" % (name, ";".join(packing.shapes)))
+        raise ValueError("%s holds %d mesh shape%s (%s): give %s as shape=[MeshShape, ...], in "
+                         "the order of its shapes (%d given)"
+                         % (name, len(want), "" if len(want) == 1 else "s",
+                            ", ".join(packing.shapes[k] for k in want),
+                            "it" if len(want) == 1 else "them", len(meshes)))
+    for k, m in zip(want, meshes):
+        recorded = packing.shapes[k][5:]
+        if recorded and recorded != m.name:
+            warnings.warn("%s: shape %d was the mesh shape '%s', not '%s'"
+                          % (name, k, recorded, m.name))
+        packing.mesh_shapes[k] = m
+        packing.shapes[k] = "mesh:" + m.name
+
+
 def read(path, format=None, shape=None, *, threads=None, max_memory=None,  # noqa: A002
          progress=None):
     """Reads a packing from a .vdb (its points grid), or a .ply or .csv as
@@ -653,8 +856,10 @@ def read(path, format=None, shape=None, *, threads=None, max_memory=None,  # noq
     Particles come back in id order. shape: the particle shape where the
     file does not record it: a name for a CSV of solids (which does not
     record the shape), or a MeshShape for a packing of a mesh shape (for
-    check, render and .obj). Returns a Packing whose metadata is the
-    file's (.vdb, and .ply comments)."""
+    check, render and .obj); for a packing of several shapes, a list of
+    MeshShapes, one per mesh shape in the order of its shapes (as the
+    command line's --shape, once per mesh shape). Returns a Packing whose
+    metadata is the file's (.vdb, and .ply comments)."""
     p = _arrays.path(path)
     if format is None:
         fmt = lib.vp_format_from_path(p)
@@ -665,12 +870,18 @@ def read(path, format=None, shape=None, *, threads=None, max_memory=None,  # noq
         fmt = _arrays.choice(format, "format", {k: v for k, v in _lib.FORMATS.items()
                                                 if k != "obj"})
     mesh = None
+    meshes = None  # shape=[MeshShape, ...]: a mixed set's mesh shapes
     if isinstance(shape, _container.MeshShape):
         mesh, shape = shape, None
+    elif isinstance(shape, (list, tuple)):
+        meshes, shape = list(shape), None
+        for k, m in enumerate(meshes):
+            if not isinstance(m, _container.MeshShape):
+                raise TypeError("shape[%d] must be a vdbpack.MeshShape, not %r" % (k, m))
     elif shape is not None:
         if not isinstance(shape, str):
             raise TypeError("shape must be a name or a vdbpack.MeshShape, not %r" % (shape,))
-        shape = _known_shape(shape, ", or a vdbpack.MeshShape")[2]
+        shape = _known_shape(shape, ", a vdbpack.MeshShape, or a list of them")[2]
     out = ctypes.POINTER(_lib.vp_particles)()
     needs = ctypes.c_int(0)
     try:
@@ -680,6 +891,14 @@ def read(path, format=None, shape=None, *, threads=None, max_memory=None,  # noq
     finally:
         lib.vp_particles_destroy(out)
     name = os.fsdecode(p)
+    if packing.shape == "mixed":
+        _attach_meshes(packing, name, shape, [mesh] if mesh is not None else meshes)
+        mesh = shape = None
+    elif meshes is not None:
+        if len(meshes) != 1 or packing.shape != "mesh":
+            raise ValueError("%s holds one shape (%s): shape=[MeshShape, ...] is for packings "
+                             "of several shapes" % (name, packing.shape))
+        mesh = meshes[0]
     if mesh is not None and packing.shape != "mesh":
         raise ValueError("%s holds %ss, not particles of a mesh shape: shape=MeshShape is for "
                          "those" % (name, packing.shape))
@@ -709,7 +928,10 @@ def read(path, format=None, shape=None, *, threads=None, max_memory=None,  # noq
                       % (name, md["shape_file"], mesh.name))
     packing.method = md.get("method") if isinstance(md.get("method"), str) else None
     cv = _meta_float(md.get("container_volume"))
-    if cv and cv > 0 and (packing.shape != "mesh" or mesh is not None):
+    loaded = packing.shape != "mixed" or all(
+        m is not None for n, m in zip(packing.shapes, packing.mesh_shapes)
+        if n == "mesh" or n.startswith("mesh:"))
+    if cv and cv > 0 and (packing.shape != "mesh" or mesh is not None) and loaded:
         packing.container_volume = cv
         packing.fraction = packing.volume() / cv
     return packing
