@@ -16,6 +16,7 @@
 #include "core/geom.h"
 #include "core/lattice_basis.h"
 #include "core/parallel.h"
+#include "core/rng.h"
 #include "core/shape.h"
 #include "core/superball.h"
 
@@ -44,21 +45,6 @@ typedef struct setup {
 } setup;
 
 /* --- small helpers ------------------------------------------------------ */
-
-static uint64_t splitmix64(uint64_t *s) {
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-static double rand01(uint64_t *s) { return (double)(splitmix64(s) >> 11) * 0x1.0p-53; }
-
-static void random_quat(uint64_t *s, double q[4]) {
-    /* Shoemake's uniform random rotation. */
-    double u1 = rand01(s), u2 = rand01(s) * 2 * M_PI, u3 = rand01(s) * 2 * M_PI;
-    double a = sqrt(1 - u1), b = sqrt(u1);
-    q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
-}
 
 static int invert3(const double m[3][3], double inv[3][3]) {
     double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
@@ -495,7 +481,7 @@ static vp_result search_once(const search_cfg *cfg, double r, placement *best,
     setup best_s;
     for (int rot = 0; rot < nrot; rot++) {
         double q[4] = {0, 0, 0, 1};
-        if (rot > 0) random_quat(&rng, q);
+        if (rot > 0) vp_rng_quat_shoemake(&rng, q);
         setup s;
         setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->sb, cfg->fit, r, q);
         s.dm = cfg->dm;
