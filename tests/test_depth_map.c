@@ -73,9 +73,7 @@ static vp_container *load(const char *name, double radius, int narrow) {
     cp.particle_radius = radius;
     cp.narrow_band = narrow;
     vp_container *c = NULL;
-    vp_result r = vp_container_load(ctx, path, &cp, &c);
-    if (r != VP_OK) fprintf(stderr, "load failed: %s\n", vp_context_message(ctx));
-    ASSERT_EQ_INT(r, VP_OK);
+    ASSERT_OK(ctx, vp_container_load(ctx, path, &cp, &c));
     return c;
 }
 
@@ -140,10 +138,10 @@ static void test_lattice_same_with_and_without_map(void) {
     lp.radius = 0.02;
     lp.offsets = 1;
     vp_particles *a = NULL, *b = NULL;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &a, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &a, NULL));
     int (*saved)(const struct vp_container *, vp_depth_map *) = c->depth_map;
     c->depth_map = NULL;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &b, NULL));
     c->depth_map = saved;
     fprintf(stderr, "   %zu particles with the map, %zu without\n", a->count, b->count);
     ASSERT_GE(a->count, 1000);
@@ -153,9 +151,9 @@ static void test_lattice_same_with_and_without_map(void) {
     vp_particles_destroy(b);
     /* the same for a polyhedron, whose wall test reads vertices */
     lp.shape = VP_SHAPE_OCTAHEDRON;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &a, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &a, NULL));
     c->depth_map = NULL;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &b, NULL));
     c->depth_map = saved;
     ASSERT_EQ_INT(a->count, b->count);
     ASSERT_TRUE(memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)) == 0);

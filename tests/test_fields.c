@@ -43,7 +43,7 @@ static vp_field *custom(double (*fn)(void *, const double *), double lo, double 
     vp_field_ops ops = {fn, NULL};
     double bl[3] = {lo, lo, lo}, bh[3] = {hi, hi, hi};
     vp_field *f = NULL;
-    ASSERT_EQ_INT(vp_field_create_custom(ctx, &ops, NULL, bl, bh, vmin, vmax, &f), VP_OK);
+    ASSERT_OK(ctx, vp_field_create_custom(ctx, &ops, NULL, bl, bh, vmin, vmax, &f));
     return f;
 }
 
@@ -72,16 +72,16 @@ static vp_particles *rsa(const vp_container *c, const vp_field *rf, vp_field_mod
     rp.density_field = df;
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     ASSERT_EQ_INT(rep.passes[0].placed, n);
     return p;
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5}, o[3] = {0, 0, 0};
     vp_container *box = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &box), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &box));
 
     /* 1. radius field, scale and absolute: r * f(x) to float rounding */
     vp_field *h = custom(halve, -0.6, 0.6, 0.4, 1.1);
@@ -147,7 +147,7 @@ int main(void) {
                       VP_ERR_INVALID_ARGUMENT);
         ASSERT_TRUE(strstr(vp_context_message(ctx), "must not be negative") != NULL);
         double a, b;
-        ASSERT_EQ_INT(vp_field_check(ctx, h, "h", "radius field", 1, box, &a, &b), VP_OK);
+        ASSERT_OK(ctx, vp_field_check(ctx, h, "h", "radius field", 1, box, &a, &b));
         ASSERT_NEAR(a, 0.4, 0);
         ASSERT_NEAR(b, 1.1, 0);
         vp_field_destroy(small);
@@ -158,8 +158,8 @@ int main(void) {
     {
         double mc[3] = {0.1, 0.0, 0.0};
         vp_container *ball = NULL, *m = NULL;
-        ASSERT_EQ_INT(vp_container_create_sphere(ctx, mc, 0.25, &ball), VP_OK);
-        ASSERT_EQ_INT(vp_container_subtract(ctx, box, ball, &m), VP_OK);
+        ASSERT_OK(ctx, vp_container_create_sphere(ctx, mc, 0.25, &ball));
+        ASSERT_OK(ctx, vp_container_subtract(ctx, box, ball, &m));
         uint64_t s = vp_rng_stream(7, 1);
         for (int t = 0; t < 10000; t++) {
             double x[3];
@@ -182,7 +182,7 @@ int main(void) {
         vp_lattice_params lp;
         vp_lattice_params_init(&lp);
         lp.radius = 0.04;
-        ASSERT_EQ_INT(vp_pack_lattice(ctx, m, &lp, &p, NULL), VP_OK);
+        ASSERT_OK(ctx, vp_pack_lattice(ctx, m, &lp, &p, NULL));
         ASSERT_TRUE(p->count > 100);
         for (size_t i = 0; i < p->count; i++) {
             const double *x = p->positions + 3 * i;
@@ -194,7 +194,7 @@ int main(void) {
         vp_container_destroy(ball);
         /* a mask that covers everything */
         vp_container *big = NULL;
-        ASSERT_EQ_INT(vp_container_create_sphere(ctx, o, 2.0, &big), VP_OK);
+        ASSERT_OK(ctx, vp_container_create_sphere(ctx, o, 2.0, &big));
         ASSERT_EQ_INT(vp_container_subtract(ctx, box, big, &m), VP_ERR_BAD_CONTAINER);
         vp_container_destroy(big);
     }
@@ -207,7 +207,7 @@ int main(void) {
         jp.count = 300;
         jp.radius_field = h;
         vp_particles *p = NULL;
-        ASSERT_EQ_INT(vp_pack_jam(ctx, box, &jp, &p, NULL), VP_OK);
+        ASSERT_OK(ctx, vp_pack_jam(ctx, box, &jp, &p, NULL));
         double rmin = HUGE_VAL, rmax = 0;
         for (size_t i = 0; i < p->count; i++) {
             rmin = fmin(rmin, p->radii[i]);
@@ -224,7 +224,7 @@ int main(void) {
         xp.count = 300;
         vp_size_dist_constant(&xp.radius, 0.04);
         xp.radius_field = h;
-        ASSERT_EQ_INT(vp_pack_relax(ctx, box, &xp, &p, NULL), VP_OK);
+        ASSERT_OK(ctx, vp_pack_relax(ctx, box, &xp, &p, NULL));
         /* relax: r_i <= 0.04 f(start), shrunk one by one, so the line */
         double sx = 0, sr = 0, sxx = 0, sxr = 0, n = (double)p->count;
         for (size_t i = 0; i < p->count; i++) {

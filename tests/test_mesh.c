@@ -111,8 +111,7 @@ static void test_memory_cube(void)
 {
     const char *text = CUBE_V CUBE_QUADS;
     vp_mesh *m = NULL;
-    ASSERT_EQ_INT(vp_mesh_load_memory(text, strlen(text), "obj", &m, g_err, sizeof g_err),
-                  VP_OK);
+    ASSERT_OK_MSG(g_err, vp_mesh_load_memory(text, strlen(text), "obj", &m, g_err, sizeof g_err));
     expect_closed(m, 1, 8.0);
     vp_mesh_destroy(m);
 }
@@ -302,7 +301,7 @@ static void test_ply_stl(void)
     vp_mesh_destroy(m);
 
     m = NULL;
-    ASSERT_EQ_INT(vp_mesh_load_memory(stl, strlen(stl), "stl", &m, g_err, sizeof g_err), VP_OK);
+    ASSERT_OK_MSG(g_err, vp_mesh_load_memory(stl, strlen(stl), "stl", &m, g_err, sizeof g_err));
     expect_closed(m, 1, 1.0 / 6.0);
     vp_mesh_destroy(m);
 }
@@ -421,8 +420,7 @@ static void test_import_hang_is_an_error(void)
     unsetenv("VDBPACK_IMPORT_TIMEOUT");
     /* the parent still works afterwards */
     static const char cube[] = CUBE_V CUBE_QUADS;
-    ASSERT_EQ_INT(vp_mesh_load_memory(cube, strlen(cube), "obj", &m, g_err, sizeof g_err),
-                  VP_OK);
+    ASSERT_OK_MSG(g_err, vp_mesh_load_memory(cube, strlen(cube), "obj", &m, g_err, sizeof g_err));
     ASSERT_EQ_INT((int)m->ntris, 12);
     vp_mesh_destroy(m);
 }
@@ -526,10 +524,7 @@ static vp_mesh *load_shared(const char *name)
         return NULL;
     }
     vp_mesh *m = NULL;
-    vp_result r = vp_mesh_load(path, &m, g_err, sizeof g_err);
-    if (r != VP_OK)
-        fprintf(stderr, "%s: %s\n", path, g_err);
-    ASSERT_EQ_INT(r, VP_OK);
+    ASSERT_OK_MSG(g_err, vp_mesh_load(path, &m, g_err, sizeof g_err));
     fprintf(stderr,
             "   %s: %zu raw verts, %zu welded, %zu tris, %zu boundary, %zu non-manifold, "
             "%zu zero-area, %zu components, volume %.6g\n",

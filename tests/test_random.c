@@ -56,7 +56,7 @@ static double worst_wall_box(const vp_particles *p, double h) {
 static vp_container *unit_box(void) {
     double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     return c;
 }
 
@@ -82,7 +82,7 @@ static void two_passes(vp_rsa_pass ps[2], vp_rsa_params *rp, const char *r0, siz
         vp_rsa_pass_init(&ps[k]);
         ps[k].count = n[k];
         ps[k].maximal = n[k] == 0;
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, law[k], &ps[k].radius), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, law[k], &ps[k].radius));
     }
     ps[0].grow = grow0;
     vp_rsa_params_init(rp);
@@ -127,7 +127,7 @@ static void test_size_dist(void) {
     const char *specs[] = {"0.25", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6"};
     for (int s = 0; s < 4; s++) {
         vp_size_dist d;
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, specs[s], &d), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, specs[s], &d));
         uint64_t st = 12345;
         double m1 = 0, m3 = 0, lo = HUGE_VAL, hi = 0;
         const int n = 400000;
@@ -163,11 +163,11 @@ static void test_size_dist(void) {
     for (int s = 0; s < 6; s++) {
         vp_size_dist d, e;
         char buf[256];
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, fmt[s], &d), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, fmt[s], &d));
         vp_size_dist_format(&d, buf, sizeof buf);
         fprintf(stderr, "   format(%s) = %s\n", fmt[s], buf);
         ASSERT_TRUE(!strcmp(buf, want[s]));
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, buf, &e), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, buf, &e));
         ASSERT_TRUE(e.kind == d.kind && e.a == d.a && e.b == d.b && e.n == d.n);
         for (unsigned i = 0; i < d.n; i++) ASSERT_TRUE(e.values[i] == d.values[i]);
     }
@@ -176,7 +176,7 @@ static void test_size_dist(void) {
         const char *ok[] = {"1.2e-38", "3.4e38", "uniform:1.2e-38:1", "lognormal:1:0.5"};
         const char *no[] = {"1e-38", "1e-300", "3.5e38", "uniform:1e-39:1", "list:1:1e-40",
                             "lognormal:1e-37:1e-36", "uniform:1:1e39"};
-        for (int i = 0; i < 4; i++) ASSERT_EQ_INT(vp_size_dist_parse(ctx, ok[i], &d), VP_OK);
+        for (int i = 0; i < 4; i++) ASSERT_OK(ctx, vp_size_dist_parse(ctx, ok[i], &d));
         for (int i = 0; i < 7; i++) {
             ASSERT_EQ_INT(vp_size_dist_parse(ctx, no[i], &d), VP_ERR_INVALID_ARGUMENT);
             ASSERT_TRUE(strstr(vp_context_message(ctx), "float") != NULL);
@@ -185,10 +185,10 @@ static void test_size_dist(void) {
     {   /* a value that needs 17 digits keeps them */
         vp_size_dist d, e;
         char buf[64];
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, "0.30000000000000004", &d), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, "0.30000000000000004", &d));
         vp_size_dist_format(&d, buf, sizeof buf);
         ASSERT_TRUE(!strcmp(buf, "0.30000000000000004"));
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, buf, &e), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, buf, &e));
         ASSERT_TRUE(e.a == d.a);
     }
     const char *bad[] = {"-1", "0", "uniform:0.3:0.1", "gamma:1:2", "lognormal:0.1", "list:",
@@ -207,7 +207,7 @@ static void test_rsa_binary_grow(void) {
     two_passes(ps, &rp, "0.07", 40, 1, "uniform:0.012:0.02", 1200, 5);
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     ASSERT_EQ_INT(p->count, 1240);
     ASSERT_EQ_INT(rep.passes[0].placed, 40);
     ASSERT_EQ_INT(rep.passes[1].placed, 1200);
@@ -243,7 +243,7 @@ static void test_rsa_binary_grow(void) {
     }
     /* the checker agrees */
     vp_check_report cr;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &cr), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &cr));
     ASSERT_EQ_INT(cr.overlapping_pairs, 0);
     ASSERT_EQ_INT(cr.outside, 0);
     ASSERT_GE(cr.contact_pairs, 20); /* 40 grown spheres each touch something */
@@ -268,14 +268,14 @@ static void test_rsa_retries_and_no_fit(void) {
     ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_ERR_NO_FIT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "0.7405") != NULL);
     one_pass(&ps, &rp, 0.05, 1400, 0); /* 0.733: packed as far as it goes */
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     ASSERT_TRUE(rep.passes[0].placed < 1400 && rep.passes[0].stop == VP_RSA_STOP_MAXIMAL);
     vp_particles_destroy(p);
     p = NULL;
     /* 20 fill 0.67 of it, under the bound: packed until the retries end it */
     one_pass(&ps, &rp, 0.2, 20, 0);
     ps.retries = 200;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     fprintf(stderr, "   radius 0.2, count 20: placed %zu, stop %d, tries %llu\n",
             rep.passes[0].placed, (int)rep.passes[0].stop,
             (unsigned long long)rep.passes[0].tries);
@@ -308,7 +308,7 @@ static void test_rsa_retries_and_no_fit(void) {
     ASSERT_TRUE(p == NULL);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "passes 1 and 2 have one group name, 'pass2'"));
     snprintf(two[0].name, sizeof two[0].name, "big");
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     ASSERT_TRUE(!strcmp(p->group_names[0], "big") && !strcmp(p->group_names[1], "pass2"));
     vp_particles_destroy(p);
     vp_container_destroy(c);
@@ -317,14 +317,14 @@ static void test_rsa_retries_and_no_fit(void) {
 static void test_rsa_maximal_leaves_no_room(void) {
     double ctr[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, ctr, 1.0, &c));
     const double r = 0.06;
     vp_rsa_pass ps;
     vp_rsa_params rp;
     one_pass(&ps, &rp, r, 0, 11);
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_MAXIMAL);
     ASSERT_LE(worst_overlap(p), 0.0);
     /* probe a fine grid (and random points): no admissible centre is free */
@@ -372,7 +372,7 @@ static void test_rsa_count_near_saturation(void) {
     one_pass(&ps, &rp, r, n, 5);
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     fprintf(stderr, "   %zu of %zu placed, stop %d, %llu tries\n", p->count, n, (int)rep.passes[0].stop,
             (unsigned long long)rep.passes[0].tries);
     ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_COUNT);
@@ -405,9 +405,9 @@ static void test_rsa_cell_budget(void) {
     vp_particles *a = NULL, *b = NULL;
     vp_rsa_report rep;
     vp_context_set_threads(ctx, 1);
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &a, &rep));
     vp_context_set_threads(ctx, 2);
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &b, NULL));
     vp_context_set_threads(ctx, 0);
     double frac = vp_particles_volume(a);
     fprintf(stderr, "   budget %zu cells: %zu spheres, fraction %.4f, stop %d, budget hit %d\n",
@@ -423,7 +423,7 @@ static void test_rsa_cell_budget(void) {
     vp_particles_destroy(b);
     /* the automatic budget is not reached by the same pass */
     rp.max_cells = 0;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &a, &rep));
     ASSERT_EQ_INT(rep.passes[0].budget_hit, 0);
     ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_MAXIMAL);
     fprintf(stderr, "   automatic budget: %zu spheres, fraction %.4f\n", a->count,
@@ -461,16 +461,14 @@ static void thin_case(void) {
     double h[3] = {0.5 * t, thin_needle ? 0.5 * t : 0.5, 0.5};
     double lo[3] = {-h[0], -h[1], -h[2]};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, h, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, h, &c));
     vp_rsa_pass ps;
     vp_rsa_params rp;
     one_pass(&ps, &rp, r, thin_n, 7);
     rp.shape = thin_shape;
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    vp_result res = vp_pack_rsa(ctx, c, &rp, &p, &rep);
-    if (res != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
-    ASSERT_EQ_INT(res, VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     fprintf(stderr, "   %s%s %g, r %g: placed %zu of %zu, stop %d, %llu tries, peak %ld MB\n",
@@ -521,13 +519,13 @@ static void test_rsa_thin_maximal(void) {
     double t = 1e-6, r = 0.4 * t, w = 2e-5;
     double h[3] = {0.5 * t, 0.5 * w, 0.5 * w}, lo[3] = {-h[0], -h[1], -h[2]};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, h, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, h, &c));
     vp_rsa_pass ps;
     vp_rsa_params rp;
     one_pass(&ps, &rp, r, 0, 3);
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     double area = (w - 2 * r) * (w - 2 * r), disk = 3.14159265358979 * r * r;
     fprintf(stderr, "   slab %g x %g x %g, r %g, maximal: %zu spheres, %.3f of the area in disks\n",
             t, w, w, r, p->count, (double)p->count * disk / area);
@@ -568,7 +566,7 @@ static void test_rsa_grid_order(void) {
         ps[0].grow = grow;
         vp_particles *p = NULL;
         vp_rsa_report rep;
-        ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+        ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
         size_t n1 = rep.passes[0].placed;
         ASSERT_EQ_INT(rep.passes[1].placed, N2);
         ASSERT_EQ_INT(p->count, n1 + N2);
@@ -599,16 +597,16 @@ static void test_rsa_deterministic(void) {
     two_passes(ps, &rp, "0.05", 100, 1, "0.02", 0, 3);
     vp_particles *a = NULL, *b = NULL;
     vp_context_set_threads(ctx, 1);
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &a, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &a, NULL));
     vp_context_set_threads(ctx, 2);
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &b, NULL));
     vp_context_set_threads(ctx, 0);
     ASSERT_EQ_INT(a->count, b->count);
     ASSERT_TRUE(!memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)));
     ASSERT_TRUE(!memcmp(a->radii, b->radii, a->count * sizeof(float)));
     vp_particles_destroy(b);
     rp.seed = 4;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &b, NULL));
     ASSERT_TRUE(a->count != b->count ||
                 memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)));
     vp_particles_destroy(a);
@@ -619,16 +617,16 @@ static void test_rsa_deterministic(void) {
 static void test_relax(void) {
     double ctr[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, ctr, 1.0, &c));
     vp_relax_params xp;
     vp_relax_params_init(&xp);
-    ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.5:1", &xp.radius), VP_OK);
+    ASSERT_OK(ctx, vp_size_dist_parse(ctx, "uniform:0.5:1", &xp.radius));
     xp.count = 1500;
     xp.target_fraction = 0.55;
     xp.seed = 8;
     vp_particles *p = NULL;
     vp_relax_report rep;
-    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_relax(ctx, c, &xp, &p, &rep));
     double wo = worst_overlap(p), ww = -HUGE_VAL;
     for (size_t i = 0; i < p->count; i++) {
         const double *x = p->positions + 3 * i;
@@ -652,7 +650,7 @@ static void test_relax(void) {
     vp_size_dist_constant(&xp.radius, 0.1);
     xp.count = 600;
     xp.target_fraction = 0.6;
-    ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_relax(ctx, c, &xp, &p, &rep));
     double cw = -HUGE_VAL;
     for (size_t i = 0; i < p->count; i++) {
         const double *x = p->positions + 3 * i;
@@ -682,7 +680,7 @@ static void test_relax(void) {
 static void test_relax_margin_gap(void) {
     double ctr[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, 1.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, ctr, 1.0, &c));
     for (int f = 0; f < 2; f++) {
         vp_relax_params xp;
         vp_relax_params_init(&xp);
@@ -695,7 +693,7 @@ static void test_relax_margin_gap(void) {
         xp.gap = 0.012;
         vp_particles *p = NULL;
         vp_relax_report rep;
-        ASSERT_EQ_INT(vp_pack_relax(ctx, c, &xp, &p, &rep), VP_OK);
+        ASSERT_OK(ctx, vp_pack_relax(ctx, c, &xp, &p, &rep));
         double least_gap = HUGE_VAL, least_margin = HUGE_VAL;
         for (size_t i = 0; i < p->count; i++) {
             const double *x = p->positions + 3 * i;
@@ -733,7 +731,7 @@ static void test_relax_margin_gap(void) {
 static void test_check_known_cases(void) {
     vp_container *c = unit_box();
     vp_particles *p = NULL;
-    ASSERT_EQ_INT(vp_particles_create(ctx, 4, &p), VP_OK);
+    ASSERT_OK(ctx, vp_particles_create(ctx, 4, &p));
     p->radii = malloc(4 * sizeof(float));
     p->count = 4;
     double pos[4][3] = {{-0.2, 0, 0}, {0.0, 0, 0}, {0.3, 0, 0}, {0, 0.45, 0}};
@@ -742,7 +740,7 @@ static void test_check_known_cases(void) {
     memcpy(p->radii, r, sizeof r);
     /* 0-1 touch exactly (d = 0.2); 1-2 gap 0.1; 3 crosses the wall by 0.05 */
     vp_check_report rep;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &rep));
     ASSERT_EQ_INT(rep.overlapping_pairs, 0);
     ASSERT_EQ_INT(rep.contact_pairs, 1);
     ASSERT_EQ_INT(rep.outside, 1);
@@ -753,17 +751,17 @@ static void test_check_known_cases(void) {
     vp_check_params cp;
     vp_check_params_init(&cp);
     cp.fit = VP_FIT_CENTER;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, &cp, &rep));
     ASSERT_EQ_INT(rep.outside, 0);
     /* overlap 1 and 2 by 0.02 of r_i + r_j */
     p->positions[6] = 0.2 * (1 - 0.02);
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &rep));
     ASSERT_EQ_INT(rep.overlapping_pairs, 1);
     ASSERT_NEAR(rep.max_overlap, 0.02, 1e-6);
     ASSERT_NEAR(rep.max_overlap_world, 0.004, 1e-7);
     cp.fit = VP_FIT_INSIDE;
     cp.overlap_tolerance = 0.03;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, &cp, &rep));
     ASSERT_EQ_INT(rep.overlapping_pairs, 0);
     /* cubes: face to face touching is no overlap; turned 45 degrees about z,
      * the second one's edge enters the first */
@@ -772,7 +770,7 @@ static void test_check_known_cases(void) {
     double s = 0.1, half = s / sqrt(3.0); /* circumradius 0.1: half edge 0.1/sqrt(3) */
     double cpos[4][3] = {{0, 0, 0}, {2 * half, 0, 0}, {-0.3, -0.3, -0.3}, {0.3, 0.3, 0.3}};
     memcpy(p->positions, cpos, sizeof cpos);
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &rep));
     ASSERT_EQ_INT(rep.overlapping_pairs, 0);
     ASSERT_EQ_INT(rep.contact_pairs, 1);
     ASSERT_EQ_INT(rep.outside, 0);
@@ -782,7 +780,7 @@ static void test_check_known_cases(void) {
         if (i == 1) q[2] = (float)sin(M_PI / 8), q[3] = (float)cos(M_PI / 8);
         memcpy(p->orients + 4 * i, q, sizeof q);
     }
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &rep));
     fprintf(stderr, "   turned cube: overlap %.4f of the radius\n", rep.max_overlap);
     ASSERT_EQ_INT(rep.overlapping_pairs, 1);
     /* penetration: the edge reaches half * sqrt(2) - half beyond the face */
@@ -792,7 +790,7 @@ static void test_check_known_cases(void) {
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     RUN_TEST(test_rng_quat);
     RUN_TEST(test_size_dist);
     RUN_TEST(test_rsa_binary_grow);

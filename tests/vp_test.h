@@ -8,6 +8,8 @@
 #include <string.h>
 #include <math.h>
 
+#include "vdbpack/vdbpack.h"
+
 /* Failure counter for tests that keep going after a failed check. */
 static int vp_test_failures __attribute__((unused)) = 0;
 
@@ -78,17 +80,20 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
 #endif
 
 /* A library call that must succeed: on failure prints the call, the
- * result's name and the context's message. */
-#ifdef VDBPACK_VDBPACK_H
-#define ASSERT_OK(ctx, call) do { vp_result r_ = (call); if (r_ != VP_OK) { \
+ * result's name and the context's message (ctx may be NULL: no message). */
+#define ASSERT_OK(ctx, call) do { vp_result r_ = (vp_result)(call); if (r_ != VP_OK) { \
     fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
     vp_result_name(r_), vp_context_message(ctx)); exit(1); } } while (0)
+/* The same for an internal call that reports into a message buffer (the
+ * `char *err, size_t errlen` of src/vdb and src/mesh) instead of a context. */
+#define ASSERT_OK_MSG(msg, call) do { vp_result r_ = (vp_result)(call); if (r_ != VP_OK) { \
+    fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
+    vp_result_name(r_), (const char *)(msg)); exit(1); } } while (0)
 /* A library call that must fail with result `want`. */
-#define ASSERT_FAILS(ctx, want, call) do { vp_result r_ = (call); if (r_ != (want)) { \
+#define ASSERT_FAILS(ctx, want, call) do { vp_result r_ = (vp_result)(call); if (r_ != (want)) { \
     fprintf(stderr, "%s:%d: %s gave %s, not %s (message: %s)\n", __FILE__, __LINE__, \
     #call, vp_result_name(r_), vp_result_name(want), vp_context_message(ctx)); exit(1); } \
     } while (0)
-#endif
 
 /* VP_TEST=NAME runs only the cases whose name contains NAME. */
 #define RUN_TEST(fn) do { const char *only_ = getenv("VP_TEST"); \
