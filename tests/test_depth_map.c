@@ -178,9 +178,9 @@ static void test_narrow_band_depth(void) {
 int main(void) {
     vp_context_create(&ctx);
     RUN_TEST(test_distance_transform_and_sign_rule);
-    RUN_TEST_ARGS(test_bound_holds_against_samples("peanut.obj", 10000));
-    RUN_TEST_ARGS(test_bound_holds_against_samples("torus.obj", 10000));
-    RUN_TEST_ARGS(test_bound_holds_against_samples("box.obj", 0));
+    RUN_CASE(bound_peanut, test_bound_holds_against_samples("peanut.obj", 10000));
+    RUN_CASE(bound_torus, test_bound_holds_against_samples("torus.obj", 10000));
+    RUN_CASE(bound_box, test_bound_holds_against_samples("box.obj", 0));
     RUN_TEST(test_lattice_same_with_and_without_map);
     RUN_TEST(test_narrow_band_depth);
     vp_context_destroy(ctx);

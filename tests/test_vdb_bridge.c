@@ -929,22 +929,31 @@ static int thread_count(void)
  * 30 s" when describing it right after reading its points. Here: points
  * spread over many nodes, read (TBB workers start), then described with a
  * short deadline; and vpv_quiesce_threads leaves no TBB worker behind. */
-static void test_probe_after_tbb_work(void)
+enum { SPREAD_N = 20000 };
+
+/* SPREAD_N points spread over many nodes, written to the temporary file
+ * `name`; its path in f. */
+static void write_spread_points(const char *name, char *f, size_t flen)
 {
-    enum { N = 20000 };
     vp_particles p;
-    particles_with_positions(&p, N);
+    particles_with_positions(&p, SPREAD_N);
     p.uniform_radius = 0.004f;
     p.group_count = 1;
     strcpy(p.group_names[0], "all");
     srand(5);
-    for (int i = 0; i < 3 * N; ++i) p.positions[i] = 4.0 * rand() / RAND_MAX;
+    for (int i = 0; i < 3 * SPREAD_N; ++i) p.positions[i] = 4.0 * rand() / RAND_MAX;
     vp_write_params wp;
     memset(&wp, 0, sizeof wp);
-    char f[300];
-    tmp_path(f, sizeof f, "probe_after_tbb.vdb");
+    tmp_path(f, flen, name);
     ASSERT_OK_MSG(err, vpv_points_write(f, &p, &wp, err, sizeof err));
     free(p.positions);
+}
+
+static void test_probe_after_tbb_work(void)
+{
+    enum { N = SPREAD_N };
+    char f[300];
+    write_spread_points("probe_after_tbb.vdb", f, sizeof f);
 
     /* threads that are not TBB's: the main one and log4cplus's idle pool */
     ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
@@ -974,8 +983,7 @@ static void test_probe_after_tbb_work(void)
 /* Another thread of the caller inside a TBB algorithm (a voxelization held
  * in its progress callback): TBB cannot end its workers, vpv_quiesce_threads
  * says so at once instead of waiting, and a .vdb is still read (in-process,
- * without the forked check) rather than hanging in a child. It reads the
- * file test_probe_after_tbb_work wrote. */
+ * without the forked check) rather than hanging in a child. */
 static _Atomic int busy_started, busy_release;
 
 static void nap_ms(long ms)
@@ -1009,7 +1017,8 @@ static void test_quiesce_while_tbb_busy(void)
 {
     alarm(120); /* a hang here is the failure this test looks for */
     char f[300];
-    tmp_path(f, sizeof f, "probe_after_tbb.vdb");
+    write_spread_points("quiesce_busy.vdb", f, sizeof f);
+    ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
     int rc = -1;
     pthread_t th;
     ASSERT_EQ_INT(pthread_create(&th, NULL, busy_voxelize, &rc), 0);

@@ -95,8 +95,38 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
     #call, vp_result_name(r_), vp_result_name(want), vp_context_message(ctx)); exit(1); } \
     } while (0)
 
-/* VP_TEST=NAME runs only the cases whose name contains NAME. */
-#define RUN_TEST(fn) do { const char *only_ = getenv("VP_TEST"); \
-    if (!only_ || strstr(#fn, only_)) { fprintf(stderr, "-- %s\n", #fn); fn(); } } while (0)
-#define RUN_TEST_ARGS(call) do { fprintf(stderr, "-- %s\n", #call); call; } while (0)
+/* Which cases run: with VP_TEST_CASE=NAME only the case named NAME (what
+ * CTest sets: each case is its own CTest test, tests/CMakeLists.txt), and
+ * a run in which no case has that name fails; with VP_TEST=NAME the cases
+ * whose name contains NAME; otherwise all. */
+static int vp_test_ran_ __attribute__((unused)) = 0;
+static void vp_test_check_ran_(void) __attribute__((unused));
+static void vp_test_check_ran_(void) {
+    if (vp_test_ran_) return;
+    fprintf(stderr, "VP_TEST_CASE=%s: no case of that name\n", getenv("VP_TEST_CASE"));
+    fflush(stderr);
+    _Exit(1);
+}
+static int vp_test_wanted(const char *name) __attribute__((unused));
+static int vp_test_wanted(const char *name) {
+    static int checked = 0;
+    const char *one = getenv("VP_TEST_CASE");
+    if (one && *one) {
+        if (!checked) {
+            checked = 1;
+            atexit(vp_test_check_ran_);
+        }
+        if (strcmp(name, one) != 0) return 0;
+        vp_test_ran_ = 1;
+        return 1;
+    }
+    const char *part = getenv("VP_TEST");
+    return !part || strstr(name, part) != NULL;
+}
+/* A case: RUN_TEST(fn) runs fn(); RUN_CASE(name, call) runs call under the
+ * name `name` (an identifier: tests/CMakeLists.txt finds both forms in the
+ * source and registers one CTest test per name). */
+#define RUN_CASE(name, call) do { if (vp_test_wanted(#name)) { \
+    fprintf(stderr, "-- %s\n", #name); call; } } while (0)
+#define RUN_TEST(fn) RUN_CASE(fn, fn())
 #endif
