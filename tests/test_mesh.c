@@ -458,11 +458,12 @@ static void test_garbage(void)
      * VP_OK / VP_ERR_FORMAT (or a crash) is a failure. */
     const char *valid[] = {
         CUBE_V CUBE_QUADS,
-        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-        "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
-        "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
-        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
-        "endloop\nendfacet\nendsolid t\n"};
+        /* (parentheses: one string on purpose, for clang's -Wstring-concatenation) */
+        ("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+         "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
+        ("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+         "endloop\nendfacet\nendsolid t\n")};
     const char *vhint[] = {"obj", "ply", "stl"};
     int ok = 0, fmt = 0;
     for (int it = 0; it < 600; ++it) {
