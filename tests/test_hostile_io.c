@@ -310,7 +310,7 @@ static void test_inputs_not_regular(void) {
     double dt = vp_seconds() - t0;
     fprintf(stderr, "   every reader refused the FIFO in %.3f s\n", dt);
     ASSERT_LE(dt, 2.0);
-    /* a regular file is read as before */
+    /* a regular file opens as usual: blocking */
     int fd = vp_os_open_input(VP_SAMPLES "/box.obj", msg, sizeof msg);
     ASSERT_TRUE(fd >= 0);
     ASSERT_EQ_INT(fcntl(fd, F_GETFL) & O_NONBLOCK, 0);

@@ -209,9 +209,8 @@ static void test_rsa_count_near_saturation(void) {
  * (no overlap, inside, the same for any thread count) and dense: the
  * cells handed back still hold every admissible centre, so with 30 000
  * retries the pass reaches the fraction printed (0.31 at least);
- * handing back only the parents not yet split (a mutation tried on
- * 2026-11-23, when level 0 took 4 darts a cell and the budget here was
- * 140 000) loses the rest of the space and stopped at 0.252. */
+ * handing back only the parents not yet split (a mutation tried when
+ * level 0 took 4 darts a cell and the budget here was 140 000) loses the rest of the space and stopped at 0.252. */
 static void test_rsa_cell_budget(void) {
     vp_container *c = unit_box();
     vp_rsa_pass ps;
