@@ -80,7 +80,7 @@ for t in "${TARGETS[@]}"; do
     # libc and libstdc++ must be OpenVDB's (its library or its headers).
     # `sed -n 1p`, never `head`: head exits early, grep then dies of
     # SIGPIPE, and pipefail + errexit ended this script with status 141
-    # on a long report (2026-11-23)
+    # on a long report
     "$B/fuzz/$t" "$x" -timeout=10 >"$F/replay.txt" 2>&1 || true
     first=$(grep -E "^ +#[0-9]+ 0x" "$F/replay.txt" |
             grep -vE "__interceptor_|__asan|__sanitizer|__ubsan|fuzzer::|AlarmCallback|libc\.so|libstdc\+\+\.so|libgcc_s|/libc/|sysdeps/|fuzz/$t\+0x|fuzz/fuzz_new\.cpp|operator new" |

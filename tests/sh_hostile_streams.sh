@@ -66,7 +66,7 @@ refused "check: --container a directory" "dir\.obj: not a regular file but a dir
 wpid=$!
 refused "convert: a FIFO with a writer" "fifo\.csv: $FIFO" convert fifo.csv out/c.vdb
 kill "$wpid" 2>/dev/null || true; wait "$wpid" 2>/dev/null || true
-# a link to a regular file is read as before
+# a link to a regular file is read like the file
 ln -s box.csv link.csv
 "$VDBPACK" convert link.csv via_link.vdb -q || die "a link to a regular .csv is not read"
 ok "a symbolic link to a regular file is still read"

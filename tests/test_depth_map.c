@@ -73,9 +73,7 @@ static vp_container *load(const char *name, double radius, int narrow) {
     cp.particle_radius = radius;
     cp.narrow_band = narrow;
     vp_container *c = NULL;
-    vp_result r = vp_container_load(ctx, path, &cp, &c);
-    if (r != VP_OK) fprintf(stderr, "load failed: %s\n", vp_context_message(ctx));
-    ASSERT_EQ_INT(r, VP_OK);
+    ASSERT_OK(ctx, vp_container_load(ctx, path, &cp, &c));
     return c;
 }
 
@@ -140,10 +138,10 @@ static void test_lattice_same_with_and_without_map(void) {
     lp.radius = 0.02;
     lp.offsets = 1;
     vp_particles *a = NULL, *b = NULL;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &a, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &a, NULL));
     int (*saved)(const struct vp_container *, vp_depth_map *) = c->depth_map;
     c->depth_map = NULL;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &b, NULL));
     c->depth_map = saved;
     fprintf(stderr, "   %zu particles with the map, %zu without\n", a->count, b->count);
     ASSERT_GE(a->count, 1000);
@@ -153,9 +151,9 @@ static void test_lattice_same_with_and_without_map(void) {
     vp_particles_destroy(b);
     /* the same for a polyhedron, whose wall test reads vertices */
     lp.shape = VP_SHAPE_OCTAHEDRON;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &a, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &a, NULL));
     c->depth_map = NULL;
-    ASSERT_EQ_INT(vp_pack_lattice(ctx, c, &lp, &b, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &lp, &b, NULL));
     c->depth_map = saved;
     ASSERT_EQ_INT(a->count, b->count);
     ASSERT_TRUE(memcmp(a->positions, b->positions, 3 * a->count * sizeof(double)) == 0);
@@ -180,9 +178,9 @@ static void test_narrow_band_depth(void) {
 int main(void) {
     vp_context_create(&ctx);
     RUN_TEST(test_distance_transform_and_sign_rule);
-    RUN_TEST_ARGS(test_bound_holds_against_samples("peanut.obj", 10000));
-    RUN_TEST_ARGS(test_bound_holds_against_samples("torus.obj", 10000));
-    RUN_TEST_ARGS(test_bound_holds_against_samples("box.obj", 0));
+    RUN_CASE(bound_peanut, test_bound_holds_against_samples("peanut.obj", 10000));
+    RUN_CASE(bound_torus, test_bound_holds_against_samples("torus.obj", 10000));
+    RUN_CASE(bound_box, test_bound_holds_against_samples("box.obj", 0));
     RUN_TEST(test_lattice_same_with_and_without_map);
     RUN_TEST(test_narrow_band_depth);
     vp_context_destroy(ctx);

@@ -36,7 +36,7 @@ static double rnd(void) { /* xorshift64, uniform in [0,1) */
 /* n particles: random positions in [-10,10]^3, radii, unit orients, three groups. */
 static vp_particles *make_set(vp_context *ctx, size_t n) {
     vp_particles *p = NULL;
-    ASSERT_EQ_INT(vp_particles_create(ctx, n, &p), VP_OK);
+    ASSERT_OK(ctx, vp_particles_create(ctx, n, &p));
     p->count = n;
     p->radii = malloc(n * sizeof(float));
     p->orients = malloc(4 * n * sizeof(float));
@@ -96,16 +96,16 @@ static void test_format_from_path(void) {
 
 static void test_ply_csv_round_trip(void) {
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 3000), *q = NULL;
     int needs = -1;
-    ASSERT_EQ_INT(vp_export(ctx, tmp("a.csv"), p, NULL), VP_OK);
-    ASSERT_EQ_INT(vp_import(ctx, tmp("a.csv"), VP_FORMAT_UNKNOWN, &q, &needs), VP_OK);
+    ASSERT_OK(ctx, vp_export(ctx, tmp("a.csv"), p, NULL));
+    ASSERT_OK(ctx, vp_import(ctx, tmp("a.csv"), VP_FORMAT_UNKNOWN, &q, &needs));
     ASSERT_EQ_INT(needs, 1); /* orient columns, no shape in a CSV */
     same_set(p, q, 0);       /* %.17g: the doubles exactly */
     vp_particles_destroy(q);
-    ASSERT_EQ_INT(vp_export(ctx, tmp("a.ply"), p, NULL), VP_OK);
-    ASSERT_EQ_INT(vp_import(ctx, tmp("a.ply"), VP_FORMAT_UNKNOWN, &q, &needs), VP_OK);
+    ASSERT_OK(ctx, vp_export(ctx, tmp("a.ply"), p, NULL));
+    ASSERT_OK(ctx, vp_import(ctx, tmp("a.ply"), VP_FORMAT_UNKNOWN, &q, &needs));
     ASSERT_EQ_INT(needs, 0);
     ASSERT_EQ_INT(q->shape, VP_SHAPE_OCTAHEDRON);
     same_set(p, q, 1); /* float x y z */
@@ -145,13 +145,13 @@ static vp_result import_text(vp_context *ctx, const char *name, const char *text
 
 static void test_readers_strict(void) {
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     size_t n;
-    ASSERT_EQ_INT(import_text(ctx, "h.csv", "id,x,y,z,pscale,group\n", &n), VP_OK);
+    ASSERT_OK(ctx, import_text(ctx, "h.csv", "id,x,y,z,pscale,group\n", &n));
     ASSERT_EQ_INT(n, 0); /* well formed; convert refuses it, the reader does not */
-    ASSERT_EQ_INT(import_text(ctx, "one.csv", "id,x,y,z,pscale,group\n0,1,2,3,0.5,a\n", &n), VP_OK);
+    ASSERT_OK(ctx, import_text(ctx, "one.csv", "id,x,y,z,pscale,group\n0,1,2,3,0.5,a\n", &n));
     ASSERT_EQ_INT(n, 1);
-    ASSERT_EQ_INT(import_text(ctx, "crlf.csv", "id,x,y,z,pscale,group\r\n0,1,2,3,0.5,a\r\n", &n), VP_OK);
+    ASSERT_OK(ctx, import_text(ctx, "crlf.csv", "id,x,y,z,pscale,group\r\n0,1,2,3,0.5,a\r\n", &n));
     ASSERT_EQ_INT(import_text(ctx, "sp.csv", "id,x,y,z,pscale,group\n0, 1,2,3,0.5,a\n", NULL), VP_ERR_FORMAT);
     ASSERT_EQ_INT(import_text(ctx, "nan.csv", "id,x,y,z,pscale,group\n0,1,NaN,3,0.5,a\n", NULL), VP_ERR_FORMAT);
     ASSERT_EQ_INT(import_text(ctx, "big.csv", "id,x,y,z,pscale,group\n0,1,2,3,1e39,a\n", NULL), VP_ERR_FORMAT);
@@ -160,7 +160,7 @@ static void test_readers_strict(void) {
     const char *ply0 = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
                        "property float y\nproperty float z\nproperty float pscale\nproperty int id\n"
                        "end_header\n";
-    ASSERT_EQ_INT(import_text(ctx, "e.ply", ply0, &n), VP_OK);
+    ASSERT_OK(ctx, import_text(ctx, "e.ply", ply0, &n));
     ASSERT_EQ_INT(n, 0);
     const char *ply3q = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
                         "property float y\nproperty float z\nproperty float pscale\nproperty int id\n"
@@ -172,7 +172,7 @@ static void test_readers_strict(void) {
     ASSERT_EQ_INT(import_text(ctx, "x.ply", "", NULL), VP_ERR_FORMAT);
     /* every prefix of a good PLY is refused, never read past its end */
     vp_particles *p = make_set(ctx, 5);
-    ASSERT_EQ_INT(vp_export(ctx, tmp("g.ply"), p, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_export(ctx, tmp("g.ply"), p, NULL));
     FILE *f = fopen(tmp("g.ply"), "rb");
     char buf[4096];
     size_t len = fread(buf, 1, sizeof buf, f);
@@ -192,12 +192,12 @@ static void test_readers_strict(void) {
  * never a crash (run under valgrind/ASan by the CI's hardening stages). */
 static void test_mutated_files(void) {
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 12);
     const char *names[2] = {"m.ply", "m.csv"};
     int refused = 0, accepted = 0;
     for (int k = 0; k < 2; k++) {
-        ASSERT_EQ_INT(vp_export(ctx, tmp(names[k]), p, NULL), VP_OK);
+        ASSERT_OK(ctx, vp_export(ctx, tmp(names[k]), p, NULL));
         FILE *f = fopen(tmp(names[k]), "rb");
         static char good[8192], bad[8192];
         size_t len = fread(good, 1, sizeof good, f);
@@ -231,7 +231,7 @@ static void test_mutated_files(void) {
 
 static void test_failed_writes_leave_nothing(void) {
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 10);
     ASSERT_EQ_INT(vp_export(ctx, "/nonexistent-dir/x.ply", p, NULL), VP_ERR_IO);
     ASSERT_EQ_INT(vp_export(ctx, tmp("x.xyz"), p, NULL), VP_ERR_INVALID_ARGUMENT);
@@ -258,20 +258,20 @@ static void test_obj_counts_and_estimate(void) {
     ASSERT_EQ_INT(v, 20);
     ASSERT_EQ_INT(f, 12);
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     for (int s = 0; s < 2; s++) {
         vp_particles *p = make_set(ctx, 2000);
         if (s == 0) p->shape = VP_SHAPE_SPHERE;
         vp_export_params ep;
         vp_export_params_init(&ep);
-        ASSERT_EQ_INT(vp_export(ctx, tmp("e.obj"), p, &ep), VP_OK);
+        ASSERT_OK(ctx, vp_export(ctx, tmp("e.obj"), p, &ep));
         struct stat st;
         ASSERT_EQ_INT(stat(tmp("e.obj"), &st), 0);
         double est = vp_export_estimate_bytes(p, VP_FORMAT_OBJ, &ep);
         fprintf(stderr, "   %s: OBJ %lld bytes, estimated %.0f\n", vp_shape_name(p->shape),
                 (long long)st.st_size, est);
         ASSERT_LE(fabs(est - (double)st.st_size), 0.15 * (double)st.st_size);
-        ASSERT_EQ_INT(vp_export(ctx, tmp("e.ply"), p, &ep), VP_OK);
+        ASSERT_OK(ctx, vp_export(ctx, tmp("e.ply"), p, &ep));
         ASSERT_EQ_INT(stat(tmp("e.ply"), &st), 0);
         ASSERT_LE(fabs(vp_export_estimate_bytes(p, VP_FORMAT_PLY, &ep) - (double)st.st_size), 1024);
         /* a million spheres cross the CLI's 2 GB warning line */

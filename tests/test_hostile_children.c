@@ -186,14 +186,14 @@ static void test_pipe_above_std(void) {
  * child's stderr redirection overwrote it. Reads with 1 and 2 closed. */
 static void test_reads_with_std_closed(void) {
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = NULL;
-    ASSERT_EQ_INT(vp_particles_create(ctx, 2, &p), VP_OK);
+    ASSERT_OK(ctx, vp_particles_create(ctx, 2, &p));
     p->count = 2;
     p->uniform_radius = 0.1f;
     memset(p->positions, 0, 6 * sizeof(double));
     p->positions[3] = 0.5;
-    ASSERT_EQ_INT(vp_write_points(ctx, tmp("two.vdb"), p, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_write_points(ctx, tmp("two.vdb"), p, NULL));
     vp_particles_destroy(p);
     p = NULL;
     fflush(stdout);
@@ -212,9 +212,9 @@ static void test_reads_with_std_closed(void) {
     close(k2);
     fprintf(stderr, "   with 1 and 2 closed: read %s, container %s %s\n", vp_result_name(r1),
             vp_result_name(r2), msg);
-    ASSERT_EQ_INT(r1, VP_OK);
+    ASSERT_OK(NULL, r1);
     ASSERT_EQ_INT(p->count, 2);
-    ASSERT_EQ_INT(r2, VP_OK);
+    ASSERT_OK_MSG(msg, r2);
     vp_particles_destroy(p);
     vp_container_destroy(c);
     unlink(tmp("two.vdb"));
@@ -276,7 +276,7 @@ static void test_probe_deadline_and_cancel(void) {
     const char *fifo = tmp("blocked.vdb");
     ASSERT_EQ_INT(mkfifo(fifo, 0600), 0);
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     setenv("VDBPACK_READ_TIMEOUT", "1", 1);
     double t0 = vp_subproc_now();
     vp_result r = vp_probe_read(ctx, fifo, open_and_read, fifo);
@@ -373,11 +373,11 @@ static void test_ply_claims(void) {
         write_file(ok, buf, n);
         vp_mesh *m = NULL;
         char err[512] = "";
-        ASSERT_EQ_INT(vp_mesh_load(ok, &m, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vp_mesh_load(ok, &m, err, sizeof err));
         ASSERT_EQ_INT(m->ntris, 12);
         vp_mesh_destroy(m);
         m = NULL;
-        ASSERT_EQ_INT(vp_mesh_load_memory(buf, n, "ply", &m, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vp_mesh_load_memory(buf, n, "ply", &m, err, sizeof err));
         vp_mesh_destroy(m);
         m = NULL;
         /* 100 vertices more than the file holds (the check is a lower
@@ -398,7 +398,7 @@ static void test_ply_claims(void) {
         const char *bad = tmp(ascii ? "claims_a.ply" : "claims_b.ply");
         write_file(bad, buf, n);
         vp_context *ctx;
-        ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+        ASSERT_OK(NULL, vp_context_create(&ctx));
         for (int lim = 0; lim < 2; lim++) {
             vp_context_set_max_memory(ctx, lim ? (uint64_t)256 << 20 : 0);
             vp_container *c = NULL;
@@ -454,7 +454,7 @@ static void test_memory_limit_binds_importer(void) {
     ASSERT_TRUE(strstr(err, "memory limit of 8.4 MB") != NULL);
     ASSERT_TRUE(strchr(err, '\n') == NULL);
     g.max_bytes = 0;
-    ASSERT_EQ_INT(vp_mesh_load_guarded(path, &g, &m, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vp_mesh_load_guarded(path, &g, &m, err, sizeof err));
     ASSERT_EQ_INT(m->nverts_raw, nv);
     vp_mesh_destroy(m);
     unlink(path);

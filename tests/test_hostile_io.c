@@ -49,7 +49,7 @@ static int entries(const char *dir) {
 /* Three spheres (or octahedra with orients) in a box of side 10. */
 static vp_particles *make_set(vp_context *ctx, int solids) {
     vp_particles *p = NULL;
-    ASSERT_EQ_INT(vp_particles_create(ctx, 3, &p), VP_OK);
+    ASSERT_OK(ctx, vp_particles_create(ctx, 3, &p));
     p->count = 3;
     p->radii = malloc(3 * sizeof(float));
     p->orients = malloc(12 * sizeof(float));
@@ -85,7 +85,7 @@ static void all_refuse(vp_context *ctx, const vp_particles *p, const char *want,
 
 static void test_writers_refuse_nonfinite(void) {
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 0);
     const double bad[] = {NAN, INFINITY, -INFINITY};
     for (int k = 0; k < 3; k++) {
@@ -114,7 +114,7 @@ static void test_writers_refuse_nonfinite(void) {
     p->orients[4 * 1 + 2] = 0.0f;
     /* and a sound set is written by all four */
     const char *ok[] = {"ok.vdb", "ok.ply", "ok.csv", "ok.obj"};
-    for (int f = 0; f < 4; f++) ASSERT_EQ_INT(vp_export(ctx, tmp(ok[f]), p, NULL), VP_OK);
+    for (int f = 0; f < 4; f++) ASSERT_OK(ctx, vp_export(ctx, tmp(ok[f]), p, NULL));
     ASSERT_EQ_INT(entries(g_dir), 4);
     for (int f = 0; f < 4; f++) unlink(tmp(ok[f]));
     vp_particles_destroy(p);
@@ -125,21 +125,21 @@ static void test_writers_refuse_nonfinite(void) {
  * readers read floats) refuse it, CSV (%.17g) keeps it and reads it back. */
 static void test_float_overflow(void) {
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 0);
     p->positions[3 * 1 + 1] = 1e300;
     all_refuse(ctx, p, "is beyond the 32-bit floats", 1, 0);
-    ASSERT_EQ_INT(vp_export(ctx, tmp("big.csv"), p, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_export(ctx, tmp("big.csv"), p, NULL));
     vp_particles *q = NULL;
-    ASSERT_EQ_INT(vp_import(ctx, tmp("big.csv"), VP_FORMAT_UNKNOWN, &q, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_import(ctx, tmp("big.csv"), VP_FORMAT_UNKNOWN, &q, NULL));
     ASSERT_TRUE(q->positions[3 * 1 + 1] == 1e300);
     vp_particles_destroy(q);
     unlink(tmp("big.csv"));
     /* at the largest float itself, PLY holds it; OBJ's vertices reach a
      * radius further */
     p->positions[3 * 1 + 1] = (double)FLT_MAX;
-    ASSERT_EQ_INT(vp_export(ctx, tmp("edge.ply"), p, NULL), VP_OK);
-    ASSERT_EQ_INT(vp_import(ctx, tmp("edge.ply"), VP_FORMAT_UNKNOWN, &q, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_export(ctx, tmp("edge.ply"), p, NULL));
+    ASSERT_OK(ctx, vp_import(ctx, tmp("edge.ply"), VP_FORMAT_UNKNOWN, &q, NULL));
     ASSERT_TRUE(q->positions[3 * 1 + 1] == (double)FLT_MAX);
     vp_particles_destroy(q);
     p->positions[3 * 1 + 1] = -3e38;
@@ -147,7 +147,7 @@ static void test_float_overflow(void) {
     ASSERT_EQ_INT(vp_export(ctx, tmp("edge.obj"), p, NULL), VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "particle 1: its coordinate -3e+38") != NULL);
     p->radii[1] = 1e37f;
-    ASSERT_EQ_INT(vp_export(ctx, tmp("edge.obj"), p, NULL), VP_OK);
+    ASSERT_OK(ctx, vp_export(ctx, tmp("edge.obj"), p, NULL));
     unlink(tmp("edge.ply"));
     unlink(tmp("edge.obj"));
     ASSERT_EQ_INT(entries(g_dir), 0);
@@ -162,7 +162,7 @@ static void test_long_messages_keep_reason(void) {
     for (int i = 0; i < 3000; i++) path[i] = (char)(i % 3 == 0 ? 'a' : i % 3 == 1 ? '\xc3' : '\xa9');
     path[3000] = 0;
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_fail(ctx, VP_ERR_IO, "%s: cannot write output (%s)", path, strerror(ENAMETOOLONG));
     const char *m = vp_context_message(ctx);
     size_t n = strlen(m);
@@ -203,7 +203,7 @@ static void test_temporary_names(void) {
     char path[600];
     snprintf(path, sizeof path, "%s/%s", g_dir, name);
     vp_atomic a;
-    ASSERT_EQ_INT(vp_os_atomic_begin(&a, path), VP_OK);
+    ASSERT_OK(NULL, vp_os_atomic_begin(&a, path));
     fprintf(stderr, "   beside a 250-byte name: %s\n", strrchr(a.tmp_path, '/') + 1);
     ASSERT_EQ_INT(strlen(strrchr(a.tmp_path, '/') + 1), 14);
     ASSERT_TRUE(!strncmp(strrchr(a.tmp_path, '/') + 1, ".vp-", 4));
@@ -211,7 +211,7 @@ static void test_temporary_names(void) {
     ASSERT_TRUE(f != NULL);
     fputs("x\n", f);
     fclose(f);
-    ASSERT_EQ_INT(vp_os_atomic_commit(&a), VP_OK);
+    ASSERT_OK(NULL, vp_os_atomic_commit(&a));
     struct stat st;
     ASSERT_EQ_INT(stat(path, &st), 0);
     unlink(path);
@@ -237,30 +237,30 @@ static void test_temporary_names(void) {
     char target[4096];
     snprintf(target, sizeof target, "%s/a.csv", deep); /* 4090 bytes */
     ASSERT_EQ_INT(strlen(target), 4090);
-    ASSERT_EQ_INT(vp_os_atomic_begin(&a, target), VP_OK);
+    ASSERT_OK(NULL, vp_os_atomic_begin(&a, target));
     fprintf(stderr, "   beside a 4090-byte path: %s\n", a.tmp_path);
     ASSERT_TRUE(!strncmp(a.tmp_path, "/proc/self/fd/", 14));
     f = fopen(a.tmp_path, "w");
     ASSERT_TRUE(f != NULL);
     fputs("y\n", f);
     fclose(f);
-    ASSERT_EQ_INT(vp_os_atomic_commit(&a), VP_OK);
+    ASSERT_OK(NULL, vp_os_atomic_commit(&a));
     ASSERT_EQ_INT(stat(target, &st), 0);
     ASSERT_EQ_INT(entries(deep), 1);
     /* abort leaves nothing either */
     char target2[4096];
     snprintf(target2, sizeof target2, "%s/b.csv", deep);
-    ASSERT_EQ_INT(vp_os_atomic_begin(&a, target2), VP_OK);
+    ASSERT_OK(NULL, vp_os_atomic_begin(&a, target2));
     ASSERT_EQ_INT(entries(deep), 2);
     vp_os_atomic_abort(&a);
     ASSERT_EQ_INT(entries(deep), 1);
     /* the library writes there too, and reads it back */
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 0), *q = NULL;
     snprintf(target2, sizeof target2, "%s/c.vdb", deep);
-    ASSERT_EQ_INT(vp_write_points(ctx, target2, p, NULL), VP_OK);
-    ASSERT_EQ_INT(vp_read_points(ctx, target2, &q), VP_OK);
+    ASSERT_OK(ctx, vp_write_points(ctx, target2, p, NULL));
+    ASSERT_OK(ctx, vp_read_points(ctx, target2, &q));
     ASSERT_EQ_INT(q->count, 3);
     vp_particles_destroy(q);
     ASSERT_EQ_INT(entries(deep), 2);
@@ -295,7 +295,7 @@ static void test_inputs_not_regular(void) {
     ASSERT_EQ_INT(vp_os_check_input(tmp("missing.csv"), msg, sizeof msg), -1);
     ASSERT_TRUE(strstr(msg, "No such file") != NULL);
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = NULL;
     ASSERT_EQ_INT(vp_import(ctx, fifo, VP_FORMAT_CSV, &p, NULL), VP_ERR_IO);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "FIFO") != NULL);
@@ -310,7 +310,7 @@ static void test_inputs_not_regular(void) {
     double dt = vp_seconds() - t0;
     fprintf(stderr, "   every reader refused the FIFO in %.3f s\n", dt);
     ASSERT_LE(dt, 2.0);
-    /* a regular file is read as before */
+    /* a regular file opens as usual: blocking */
     int fd = vp_os_open_input(VP_SAMPLES "/box.obj", msg, sizeof msg);
     ASSERT_TRUE(fd >= 0);
     ASSERT_EQ_INT(fcntl(fd, F_GETFL) & O_NONBLOCK, 0);
@@ -324,14 +324,14 @@ static void test_inputs_not_regular(void) {
  * the writer refuses; a finite one reads back. */
 static void test_vdb_roundtrip_finite(void) {
     vp_context *ctx;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_particles *p = make_set(ctx, 1), *q = NULL;
     p->orients[4 * 2] = NAN;
     ASSERT_EQ_INT(vp_write_points(ctx, tmp("o.vdb"), p, NULL), VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "particle 2: its orient is not finite"));
     p->orients[4 * 2] = 0.0f;
-    ASSERT_EQ_INT(vp_write_points(ctx, tmp("o.vdb"), p, NULL), VP_OK);
-    ASSERT_EQ_INT(vp_read_points(ctx, tmp("o.vdb"), &q), VP_OK);
+    ASSERT_OK(ctx, vp_write_points(ctx, tmp("o.vdb"), p, NULL));
+    ASSERT_OK(ctx, vp_read_points(ctx, tmp("o.vdb"), &q));
     ASSERT_EQ_INT(q->count, 3);
     vp_particles_destroy(q);
     q = NULL;
@@ -341,7 +341,7 @@ static void test_vdb_roundtrip_finite(void) {
      * them, naming the particle */
     char err[256];
     p->orients[4 * 2] = NAN;
-    ASSERT_EQ_INT(vpv_points_write(tmp("nan_q.vdb"), p, NULL, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(tmp("nan_q.vdb"), p, NULL, err, sizeof err));
     ASSERT_EQ_INT(vp_read_points(ctx, tmp("nan_q.vdb"), &q), VP_ERR_FORMAT);
     fprintf(stderr, "   %s\n", vp_context_message(ctx));
     ASSERT_TRUE(strstr(vp_context_message(ctx), "particle 2: its orient is not finite") != NULL);
@@ -349,7 +349,7 @@ static void test_vdb_roundtrip_finite(void) {
     ASSERT_EQ_INT(vp_import(ctx, tmp("nan_q.vdb"), VP_FORMAT_UNKNOWN, &q, NULL), VP_ERR_FORMAT);
     p->orients[4 * 2] = 0.0f;
     p->radii[1] = INFINITY;
-    ASSERT_EQ_INT(vpv_points_write(tmp("inf_r.vdb"), p, NULL, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(tmp("inf_r.vdb"), p, NULL, err, sizeof err));
     ASSERT_EQ_INT(vp_read_points(ctx, tmp("inf_r.vdb"), &q), VP_ERR_FORMAT);
     fprintf(stderr, "   %s\n", vp_context_message(ctx));
     ASSERT_TRUE(strstr(vp_context_message(ctx), "particle 1: its radius (pscale) is not finite"));

@@ -391,15 +391,8 @@ static void test_no_inside_and_modes(void) {
 }
 
 int main(int argc, char **argv) {
-    /* one case by name: test_inside test_cavity */
-#undef RUN_TEST
-#define RUN_TEST(fn)                                                                           \
-    do {                                                                                       \
-        if (argc < 2 || strstr(#fn, argv[1])) {                                                \
-            fprintf(stderr, "-- %s\n", #fn);                                                   \
-            fn();                                                                              \
-        }                                                                                      \
-    } while (0)
+    /* one case by name: test_inside test_cavity (as VP_TEST=test_cavity) */
+    if (argc > 1) setenv("VP_TEST", argv[1], 1);
     RUN_TEST(test_holes);
     RUN_TEST(test_box_missing_face);
     RUN_TEST(test_overlapping_spheres);

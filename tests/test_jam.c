@@ -358,7 +358,7 @@ static void test_margin_gap(void) {
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&g_ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&g_ctx));
     RUN_TEST(test_bad_input);
     RUN_TEST(test_margin_gap);
     RUN_TEST(test_threads);

@@ -24,9 +24,7 @@ static vp_particles *pack(const vp_container *c, vp_shape shape, vp_lattice lat,
     p.radius = r;
     p.count = count;
     vp_particles *out = NULL;
-    vp_result res = vp_pack_lattice(ctx, c, &p, &out, rep);
-    if (res != VP_OK) fprintf(stderr, "pack failed: %s\n", vp_context_message(ctx));
-    ASSERT_EQ_INT(res, VP_OK);
+    ASSERT_OK(ctx, vp_pack_lattice(ctx, c, &p, &out, rep));
     return out;
 }
 
@@ -51,7 +49,7 @@ static void test_sc_in_box_finds_aligned_placement(void) {
     double L = 2 * r * k + 0.2 * r;
     double lo[3] = {-L / 2, -L / 2, -L / 2}, hi[3] = {L / 2, L / 2, L / 2};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     vp_lattice_report rep;
     vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_SC, VP_FIT_INSIDE, r, 0, &rep);
     ASSERT_EQ_INT(p->count, k * k * k);
@@ -81,7 +79,7 @@ static void test_sc_touching_both_walls(void) {
         double lo[3] = {-cases[k].hx, -cases[k].hy, -cases[k].hz};
         double hi[3] = {cases[k].hx, cases[k].hy, cases[k].hz};
         vp_container *c = NULL;
-        ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+        ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
         vp_lattice_report rep;
         double r = cases[k].r;
         vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_SC, cases[k].fit, r, 0, &rep);
@@ -132,9 +130,9 @@ static void test_search_with_a_shallow_band(void) {
     info.interior_band = cs.band;
     static const vp_container_ops ops = {clamped_distance, NULL, NULL};
     vp_container *c = NULL, *exact = NULL;
-    ASSERT_EQ_INT(vp_container_wrap(ctx, &ops, &cs, &info, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_wrap(ctx, &ops, &cs, &info, &c));
     double ctr[3] = {0, 0, 0};
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, ctr, R, &exact), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, ctr, R, &exact));
     vp_lattice_report rep, rep_exact;
     vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, r, 0, &rep);
     vp_particles *q = pack(exact, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, r, 0, &rep_exact);
@@ -152,7 +150,7 @@ static void test_search_with_a_shallow_band(void) {
 static void test_every_sphere_lattice_inside_and_touching(void) {
     double c0[3] = {0.3, -0.2, 0.1};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 8.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 8.0, &c));
     vp_lattice lats[] = {VP_LATTICE_SC, VP_LATTICE_BCC, VP_LATTICE_FCC, VP_LATTICE_HCP};
     for (int li = 0; li < 4; li++) {
         vp_lattice_report rep;
@@ -172,7 +170,7 @@ static void test_every_sphere_lattice_inside_and_touching(void) {
 static void test_fit_center_admits_more_than_inside(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 6.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 6.0, &c));
     vp_particles *in = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 1.0, 0, NULL);
     vp_particles *ce = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_CENTER, 1.0, 0, NULL);
     ASSERT_GE(ce->count, in->count + 1);
@@ -191,7 +189,7 @@ static void test_fit_center_admits_more_than_inside(void) {
 static void test_solids_every_vertex_inside_and_no_overlap(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 6.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 6.0, &c));
     for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; s++) {
         vp_particles *p = pack(c, (vp_shape)s, VP_LATTICE_DEFAULT, VP_FIT_INSIDE, 1.0, 0, NULL);
         const vp_polyhedron *poly = vp_shape_polyhedron((vp_shape)s);
@@ -226,7 +224,7 @@ static void test_solids_every_vertex_inside_and_no_overlap(void) {
 static void test_count_mode_within_two_percent(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 1.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 1.0, &c));
     size_t wants[] = {500, 3000};
     for (int i = 0; i < 2; i++) {
         vp_lattice_report rep;
@@ -246,7 +244,7 @@ static void test_count_mode_within_two_percent(void) {
 static void test_count_mode_small_counts(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 1.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 1.0, &c));
     for (size_t n = 1; n <= 7; n++) {
         vp_lattice_report rep;
         vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, n, &rep);
@@ -255,7 +253,7 @@ static void test_count_mode_small_counts(void) {
     }
     vp_container_destroy(c);
     double lo[3] = {-0.5, -1, -1.5}, hi[3] = {0.5, 1, 1.5};
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     size_t wants[] = {1, 4, 5, 17, 23};
     for (int i = 0; i < 5; i++) {
         vp_lattice_report rep;
@@ -270,7 +268,7 @@ static void test_count_mode_small_counts(void) {
 static void test_same_output_for_any_thread_count(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 10.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 10.0, &c));
     vp_context_set_threads(ctx, 1);
     vp_particles *a = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_HCP, VP_FIT_INSIDE, 1.0, 0, NULL);
     vp_context_set_threads(ctx, 3);
@@ -286,7 +284,7 @@ static void test_same_output_for_any_thread_count(void) {
 static void test_refusals(void) {
     double c0[3] = {0, 0, 0};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, c0, 1.0, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, c0, 1.0, &c));
     vp_lattice_params p;
     vp_particles *out = NULL;
     vp_lattice_params_init(&p);
@@ -315,7 +313,7 @@ static void test_refusals(void) {
 static vp_result thin_pack(double t, double r, size_t count, vp_particles **out) {
     double lo[3] = {-0.5 * t, -0.5, -0.5}, hi[3] = {0.5 * t, 0.5, 0.5};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     vp_lattice_params p;
     vp_lattice_params_init(&p);
     p.radius = r;
@@ -353,7 +351,7 @@ static void test_thin_boxes(void) {
      * in |x| <= 0.001, 125 x 125 of them 0.008 apart in y and z */
     double lo[3] = {-0.005, -0.5, -0.5}, hi[3] = {0.005, 0.5, 0.5};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_SC, VP_FIT_INSIDE, 0.004, 0, NULL);
     fprintf(stderr, "   simple cubic r 0.004 in 0.01 x 1 x 1: %zu\n", p->count);
     ASSERT_EQ_INT(p->count, 125 * 125);
@@ -366,7 +364,7 @@ static void test_thin_boxes(void) {
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     RUN_TEST(test_sc_in_box_finds_aligned_placement);
     RUN_TEST(test_every_sphere_lattice_inside_and_touching);
     RUN_TEST(test_fit_center_admits_more_than_inside);

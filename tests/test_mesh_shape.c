@@ -27,7 +27,7 @@ static vp_mesh_shape *from_arrays(const double *v, size_t nv, const uint32_t *t,
     memcpy(vv, v, 3 * nv * sizeof *vv);
     memcpy(tt, t, 3 * nt * sizeof *tt);
     vp_mesh_shape *s = NULL;
-    ASSERT_EQ_INT(vp_mesh_shape_create(ctx, "test", vv, nv, tt, nt, &s), VP_OK);
+    ASSERT_OK(ctx, vp_mesh_shape_create(ctx, "test", vv, nv, tt, nt, &s));
     return s;
 }
 
@@ -251,7 +251,7 @@ static void test_rsa_l_prisms(void) {
     vp_mesh_shape *m = l_prism();
     double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     vp_rsa_pass pass;
     vp_rsa_pass_init(&pass);
     pass.count = 400;
@@ -267,13 +267,13 @@ static void test_rsa_l_prisms(void) {
     rp.seed = 5;
     vp_particles *p = NULL;
     vp_rsa_report rep;
-    ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     fprintf(stderr, "   placed %zu L prisms (%llu tries)\n", p->count,
             (unsigned long long)rep.passes[0].tries);
     ASSERT_TRUE(p->count > 100);
     ASSERT_TRUE(p->shape == VP_SHAPE_MESH && p->mesh == m && p->orients);
     vp_check_report cr;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &cr), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &cr));
     ASSERT_EQ_INT(cr.overlapping_pairs, 0);
     ASSERT_EQ_INT(cr.outside, 0);
     size_t pairs = 0;
@@ -300,7 +300,7 @@ static void test_rsa_l_prisms(void) {
     ASSERT_TRUE(pairs > 50);
     /* a corrupted copy (one particle moved onto another) is caught */
     memcpy(p->positions + 3, p->positions, 3 * sizeof *p->positions);
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, NULL, &cr), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &cr));
     ASSERT_TRUE(cr.overlapping_pairs >= 1);
     vp_particles_destroy(p);
     vp_container_destroy(c);
@@ -335,7 +335,7 @@ static void test_load_errors(void) {
     snprintf(missing, sizeof missing, "%s/none.obj", dir);
     ASSERT_EQ_INT(vp_mesh_shape_load(ctx, missing, &s), VP_ERR_IO);
     ASSERT_TRUE(s == NULL);
-    ASSERT_EQ_INT(vp_mesh_shape_load(ctx, ok_obj, &s), VP_OK);
+    ASSERT_OK(ctx, vp_mesh_shape_load(ctx, ok_obj, &s));
     ASSERT_TRUE(strcmp(vp_mesh_shape_name(s), "tet.obj") == 0);
     /* a corner tetrahedron of volume 1/6: normalised about its centroid */
     double c[3] = {0.25, 0.25, 0.25}, far[3] = {0.75, -0.25, -0.25};
@@ -350,7 +350,7 @@ static void test_load_errors(void) {
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     RUN_TEST(test_cube_mesh_matches_sat);
     RUN_TEST(test_touching);
     RUN_TEST(test_edge_crossing_and_containment);

@@ -56,7 +56,7 @@ static vp_result pack(const vp_container *c, const char *law, size_t count, int 
     ps.maximal = count == 0;
     ps.count = count;
     ps.grow = grow;
-    ASSERT_EQ_INT(vp_size_dist_parse(ctx, law, &ps.radius), VP_OK);
+    ASSERT_OK(ctx, vp_size_dist_parse(ctx, law, &ps.radius));
     vp_rsa_params rp;
     vp_rsa_params_init(&rp);
     rp.passes = &ps;
@@ -76,7 +76,7 @@ static void check_with(const vp_container *c, const vp_particles *p, vp_fit fit,
     cp.margin = margin;
     cp.gap = gap;
     vp_check_report rep;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, &cp, &rep));
     *pairs = rep.overlapping_pairs;
     *outside = rep.outside;
 }
@@ -85,11 +85,10 @@ static void run_case(int sphere, vp_fit fit, const char *law, size_t count, int 
     const double h = 0.5, margin = 0.07, gap = 0.012;
     vp_container *c = NULL;
     double ctr[3] = {0, 0, 0}, lo[3] = {-h, -h, -h}, hi[3] = {h, h, h};
-    ASSERT_EQ_INT(sphere ? vp_container_create_sphere(ctx, ctr, h, &c)
-                         : vp_container_create_box(ctx, lo, hi, &c),
-                  VP_OK);
+    ASSERT_OK(ctx, sphere ? vp_container_create_sphere(ctx, ctr, h, &c)
+                          : vp_container_create_box(ctx, lo, hi, &c));
     vp_particles *p = NULL;
-    ASSERT_EQ_INT(pack(c, law, count, grow, fit, margin, gap, &p), VP_OK);
+    ASSERT_OK(ctx, pack(c, law, count, grow, fit, margin, gap, &p));
     double g = min_gap(p), w = min_wall(p, sphere, h, fit);
     /* (radii are floats: a relative 1e-6 of them) */
     double tol = 1e-6 * 0.1;
@@ -111,7 +110,7 @@ static void run_case(int sphere, vp_fit fit, const char *law, size_t count, int 
         /* maximal: no probe centre has room under the same rule */
         ASSERT_TRUE(pairs2 + outside2 > 0);
         vp_size_dist d;
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, law, &d), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, law, &d));
         double rmin = (float)vp_size_dist_min(&d);
         uint64_t st = 77;
         size_t adm = 0, fr = 0;
@@ -133,7 +132,7 @@ static void run_case(int sphere, vp_fit fit, const char *law, size_t count, int 
         ASSERT_EQ_INT(fr, 0);
         /* the same pass without the gap and margin places more */
         vp_particles *q = NULL;
-        ASSERT_EQ_INT(pack(c, law, 0, 0, fit, 0.0, 0.0, &q), VP_OK);
+        ASSERT_OK(ctx, pack(c, law, 0, 0, fit, 0.0, 0.0, &q));
         ASSERT_GE(q->count, p->count + 1);
         vp_particles_destroy(q);
     }
@@ -153,7 +152,7 @@ static void test_margin_gap(void) {
 static void test_refused(void) {
     double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {0.5, 0.5, 0.5};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     vp_particles *p = NULL;
     ASSERT_EQ_INT(pack(c, "0.04", 10, 0, VP_FIT_INSIDE, 0.0, 0.04, &p), VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "smaller than the smallest radius") != NULL);
@@ -167,7 +166,7 @@ static void test_refused(void) {
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     RUN_TEST(test_margin_gap);
     RUN_TEST(test_refused);
     vp_context_destroy(ctx);

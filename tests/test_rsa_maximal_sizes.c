@@ -31,7 +31,7 @@ static const char *LAWS[] = {"uniform:0.04:0.08", "lognormal:0.05:0.012", "list:
 static void test_sample_below(void) {
     for (int l = 0; l < 3; l++) {
         vp_size_dist d;
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, LAWS[l], &d), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, LAWS[l], &d));
         double lo = vp_size_dist_min(&d);
         double cs[2] = {vp_size_dist_mean(&d), 0.5 * (lo + vp_size_dist_mean(&d))};
         for (int k = 0; k < 2; k++) {
@@ -116,7 +116,7 @@ static vp_result pack(const vp_container *c, const char *law, size_t count, vp_f
     vp_rsa_pass_init(&ps);
     ps.maximal = count == 0;
     ps.count = count;
-    ASSERT_EQ_INT(vp_size_dist_parse(ctx, law, &ps.radius), VP_OK);
+    ASSERT_OK(ctx, vp_size_dist_parse(ctx, law, &ps.radius));
     vp_rsa_params rp;
     vp_rsa_params_init(&rp);
     rp.passes = &ps;
@@ -131,16 +131,15 @@ static void check_maximal(int sphere, vp_fit fit) {
     const double h = sphere ? 0.6 : 0.5;
     vp_container *c = NULL;
     double ctr[3] = {0, 0, 0}, lo[3] = {-h, -h, -h}, hi[3] = {h, h, h};
-    ASSERT_EQ_INT(sphere ? vp_container_create_sphere(ctx, ctr, h, &c)
-                         : vp_container_create_box(ctx, lo, hi, &c),
-                  VP_OK);
+    ASSERT_OK(ctx, sphere ? vp_container_create_sphere(ctx, ctr, h, &c)
+                          : vp_container_create_box(ctx, lo, hi, &c));
     for (int l = 0; l < 3; l++) {
         vp_size_dist d;
-        ASSERT_EQ_INT(vp_size_dist_parse(ctx, LAWS[l], &d), VP_OK);
+        ASSERT_OK(ctx, vp_size_dist_parse(ctx, LAWS[l], &d));
         double rmin = (float)vp_size_dist_min(&d), rmax = vp_size_dist_max(&d);
         vp_particles *p = NULL, *q = NULL;
         vp_rsa_report rep, rep2;
-        ASSERT_EQ_INT(pack(c, LAWS[l], 0, fit, 2, &p, &rep), VP_OK);
+        ASSERT_OK(ctx, pack(c, LAWS[l], 0, fit, 2, &p, &rep));
         ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_MAXIMAL);
         /* no overlap, inside, radii in bounds */
         double worst = -HUGE_VAL, worst_wall = HUGE_VAL, rlo = HUGE_VAL, rhi = 0;
@@ -168,7 +167,7 @@ static void check_maximal(int sphere, vp_fit fit) {
         double vol = pow(2 * (h - shrink), 3); /* the container's box, shrunk */
         size_t same = (size_t)(0.4 * vol / (4.0 / 3.0 * M_PI * rmin * rmin * rmin));
         vp_particles *c150 = NULL;
-        ASSERT_EQ_INT(pack(c, LAWS[l], same, fit, 1, &c150, &rep2), VP_OK);
+        ASSERT_OK(ctx, pack(c, LAWS[l], same, fit, 1, &c150, &rep2));
         ASSERT_EQ_INT(rep2.passes[0].stop, VP_RSA_STOP_RETRIES);
         size_t n0 = c150->count, found = 0;
         double m = 0, v = 0;
@@ -187,7 +186,7 @@ static void check_maximal(int sphere, vp_fit fit) {
         size_t adm, fr, adm2, fr2;
         probe(p, sphere, h, fit, rmin, 60000, &adm, &fr);
         /* an early stop (half the count) leaves room: the probe can fail */
-        ASSERT_EQ_INT(pack(c, LAWS[l], p->count / 2, fit, 1, &q, &rep2), VP_OK);
+        ASSERT_OK(ctx, pack(c, LAWS[l], p->count / 2, fit, 1, &q, &rep2));
         probe(q, sphere, h, fit, rmin, 60000, &adm2, &fr2);
         fprintf(stderr, "   %s %s fit %s: %zu spheres, radii [%.5f, %.5f] (law [%.5f, %.5f]), "
                         "a count pass stopped by retries, %zu: mean %.5f (law %.5f, se %.2g), %zu of them in it; worst overlap %.2g, wall %.2g; "
@@ -207,7 +206,7 @@ static void check_maximal(int sphere, vp_fit fit) {
         vp_particles_destroy(q);
         /* the thread count does not change the packing */
         vp_particles *p1 = NULL;
-        ASSERT_EQ_INT(pack(c, LAWS[l], 0, fit, 1, &p1, &rep2), VP_OK);
+        ASSERT_OK(ctx, pack(c, LAWS[l], 0, fit, 1, &p1, &rep2));
         ASSERT_EQ_INT(p1->count, p->count);
         ASSERT_TRUE(!memcmp(p1->positions, p->positions, p->count * 3 * sizeof(double)));
         ASSERT_TRUE(!memcmp(p1->radii, p->radii, p->count * sizeof(float)));
@@ -222,7 +221,7 @@ static void test_maximal_sphere_inside(void) { check_maximal(1, VP_FIT_INSIDE); 
 static void test_maximal_box_center(void) { check_maximal(0, VP_FIT_CENTER); }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     RUN_TEST(test_sample_below);
     RUN_TEST(test_maximal_box_inside);
     RUN_TEST(test_maximal_sphere_inside);

@@ -19,7 +19,7 @@ static vp_context *ctx;
 static vp_container *box(double h) {
     double lo[3] = {-h, -h, -h}, hi[3] = {h, h, h};
     vp_container *c = NULL;
-    ASSERT_EQ_INT(vp_container_create_box(ctx, lo, hi, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_box(ctx, lo, hi, &c));
     return c;
 }
 
@@ -110,9 +110,7 @@ static vp_particles *pack(vp_container *c, vp_shape shape, vp_orient_mode o, vp_
     rp.npasses = 1;
     rp.seed = seed;
     vp_particles *p = NULL;
-    vp_result res = vp_pack_rsa(ctx, c, &rp, &p, NULL);
-    if (res != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
-    ASSERT_EQ_INT(res, VP_OK);
+    ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, NULL));
     return p;
 }
 
@@ -120,7 +118,7 @@ static void expect_clean(vp_container *c, const vp_particles *p, double h) {
     vp_check_params cp;
     vp_check_params_init(&cp);
     vp_check_report rep;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, p, &cp, &rep));
     ASSERT_EQ_INT(rep.overlapping_pairs, 0);
     ASSERT_EQ_INT(rep.outside, 0);
     const vp_polyhedron *poly = vp_shape_polyhedron(p->shape);
@@ -300,7 +298,7 @@ static void test_pretest(void) {
         ps.count = 200;
         ps.retries = 2000;
         if (radii[k] > 0) vp_size_dist_constant(&ps.radius, radii[k]);
-        else ASSERT_EQ_INT(vp_size_dist_parse(ctx, "uniform:0.06:0.07", &ps.radius), VP_OK);
+        else ASSERT_OK(ctx, vp_size_dist_parse(ctx, "uniform:0.06:0.07", &ps.radius));
         vp_rsa_params rp;
         vp_rsa_params_init(&rp);
         rp.shape = VP_SHAPE_CUBE;
@@ -309,7 +307,7 @@ static void test_pretest(void) {
         rp.seed = 5;
         vp_particles *p = NULL;
         vp_rsa_report rep;
-        ASSERT_EQ_INT(vp_pack_rsa(ctx, c, &rp, &p, &rep), VP_OK);
+        ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
         fprintf(stderr, "   radius %g: %zu placed, %llu tries, %llu pre-tested\n", radii[k],
                 p->count, (unsigned long long)rep.passes[0].tries,
                 (unsigned long long)rep.passes[0].pretested);
@@ -323,7 +321,7 @@ static void test_pretest(void) {
 }
 
 int main(void) {
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     RUN_TEST(test_random_orientations);
     RUN_TEST(test_bbox_mode);
     RUN_TEST(test_grow);

@@ -74,13 +74,13 @@ static void run(double a, double emin, double emax, double where) {
 
 int main(void) {
     /* level 1 of a one-radius pass: side 2r / sqrt 3, e = 2r */
-    RUN_TEST_ARGS(run(2.0 * 0.0043 / sqrt(3.0), 0.0086, 0.0086, 0.0));
+    RUN_CASE(level_one, run(2.0 * 0.0043 / sqrt(3.0), 0.0086, 0.0086, 0.0));
     /* deep levels: cells small against the ball */
-    RUN_TEST_ARGS(run(0.0043 / 64.0, 0.0086, 0.0086, 0.3));
+    RUN_CASE(deep_levels, run(0.0043 / 64.0, 0.0086, 0.0086, 0.3));
     /* several radii (binary packings): e from 2r to 5r */
-    RUN_TEST_ARGS(run(0.005, 0.01, 0.025, -0.2));
+    RUN_CASE(several_radii, run(0.005, 0.01, 0.025, -0.2));
     /* far from the origin: the rounding margin matters */
-    RUN_TEST_ARGS(run(0.002, 0.004, 0.004, 5000.0));
+    RUN_CASE(far_from_origin, run(0.002, 0.004, 0.004, 5000.0));
     fprintf(stderr, "all rsa_top tests passed\n");
     return 0;
 }

@@ -66,8 +66,8 @@ static void run(double rmin, double rmax) {
 }
 
 int main(void) {
-    RUN_TEST_ARGS(run(0.03, 0.03));  /* one level */
-    RUN_TEST_ARGS(run(0.01, 0.09));  /* several levels */
+    RUN_CASE(one_level, run(0.03, 0.03));
+    RUN_CASE(several_levels, run(0.01, 0.09));
     fprintf(stderr, "all sgrid tests passed\n");
     return 0;
 }

@@ -60,13 +60,13 @@ static mesh_arrays read_obj(const char *path) {
 
 static mesh_arrays get_mesh(vp_context *ctx, vp_shape s, double param, const vp_mesh_shape *ms) {
     mesh_arrays m = {0};
-    ASSERT_EQ_INT(vp_shape_mesh(ctx, s, param, ms, NULL, &m.nv, NULL, &m.nf, NULL, &m.ni), VP_OK);
+    ASSERT_OK(ctx, vp_shape_mesh(ctx, s, param, ms, NULL, &m.nv, NULL, &m.nf, NULL, &m.ni));
     ASSERT_TRUE(m.nv >= 4 && m.nf >= 4 && m.ni >= 3 * m.nf);
     m.v = malloc(3 * m.nv * sizeof *m.v);
     m.fs = malloc(m.nf * sizeof *m.fs);
     m.idx = malloc(m.ni * sizeof *m.idx);
     size_t nv = m.nv, nf = m.nf, ni = m.ni;
-    ASSERT_EQ_INT(vp_shape_mesh(ctx, s, param, ms, m.v, &nv, m.fs, &nf, m.idx, &ni), VP_OK);
+    ASSERT_OK(ctx, vp_shape_mesh(ctx, s, param, ms, m.v, &nv, m.fs, &nf, m.idx, &ni));
     ASSERT_TRUE(nv == m.nv && nf == m.nf && ni == m.ni);
     return m;
 }
@@ -133,7 +133,7 @@ static void same_as_obj(const mesh_arrays *m, const char *obj, const char *what)
 
 int main(void) {
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     char dir[] = "/tmp/vp-shape-mesh-XXXXXX", obj[256];
     ASSERT_TRUE(mkdtemp(dir) != NULL);
     snprintf(obj, sizeof obj, "%s/shape.obj", dir);
@@ -142,7 +142,7 @@ int main(void) {
     for (int s = 1; s < VP_SHAPE_COUNT; s++) { /* the 5 platonic and 13 Archimedean solids */
         mesh_arrays m = get_mesh(ctx, (vp_shape)s, 0.0, NULL);
         check_surface(&m, vp_shape_name((vp_shape)s));
-        ASSERT_EQ_INT(vp_shape_write_obj(ctx, (vp_shape)s, obj), VP_OK);
+        ASSERT_OK(ctx, vp_shape_write_obj(ctx, (vp_shape)s, obj));
         same_as_obj(&m, obj, vp_shape_name((vp_shape)s));
         free_arrays(&m);
         tested++;
@@ -160,18 +160,18 @@ int main(void) {
             for (int k = 0; k < 3; k++) g += pow(fabs(m.v[3 * v + k] * c), 2 * ps[i]);
             ASSERT_NEAR(g, 1.0, 1e-9);
         }
-        ASSERT_EQ_INT(vp_shape_write_obj_param(ctx, VP_SHAPE_SUPERBALL, ps[i], obj), VP_OK);
+        ASSERT_OK(ctx, vp_shape_write_obj_param(ctx, VP_SHAPE_SUPERBALL, ps[i], obj));
         same_as_obj(&m, obj, "superball");
         fprintf(stderr, "superball:%g: %zu vertices, %zu triangles\n", ps[i], m.nv, m.nf);
         free_arrays(&m);
         tested++;
     }
     vp_mesh_shape *ms = NULL;
-    ASSERT_EQ_INT(vp_mesh_shape_load(ctx, VP_SAMPLES "/box.obj", &ms), VP_OK);
+    ASSERT_OK(ctx, vp_mesh_shape_load(ctx, VP_SAMPLES "/box.obj", &ms));
     mesh_arrays m = get_mesh(ctx, VP_SHAPE_MESH, 0.0, ms);
     check_surface(&m, "box.obj");
     ASSERT_EQ_INT(m.nf, vp_mesh_shape_triangles(ms));
-    ASSERT_EQ_INT(vp_mesh_shape_write_obj(ctx, ms, obj), VP_OK);
+    ASSERT_OK(ctx, vp_mesh_shape_write_obj(ctx, ms, obj));
     same_as_obj(&m, obj, "box.obj");
     tested++;
 

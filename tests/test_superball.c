@@ -475,8 +475,8 @@ static void test_rsa_packing(void) {
                 vp_superball_support(ps[i], dl, x);
                 vp_quat_rotate(q, x, w);
                 double e = p->radii[a] * w[ax / 2] * dw[ax / 2];
-                double c = p->positions[3 * a + ax / 2];
-                out = fmax(out, ax % 2 ? -(c - e) : c + e - 1.0);
+                double at = p->positions[3 * a + ax / 2];
+                out = fmax(out, ax % 2 ? -(at - e) : at + e - 1.0);
             }
         }
         vp_check_report rep;

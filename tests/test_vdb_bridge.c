@@ -112,9 +112,8 @@ static void test_cube_levelset(void)
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err);
-    if (rc) fprintf(stderr, "%s\n", err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err,
+                                              sizeof err));
     ASSERT_TRUE(ls != NULL);
 
     vpv_levelset_info info;
@@ -143,8 +142,7 @@ static void test_cube_levelset(void)
 
     /* Interior band widened to the requested depth. */
     ASSERT_TRUE(info.interior_band < 0.5);
-    rc = vpv_levelset_ensure_interior(ls, 0.5, err, sizeof err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_ensure_interior(ls, 0.5, err, sizeof err));
     vpv_levelset_get_info(ls, &info);
     ASSERT_GE(info.interior_band, 0.5);
     ASSERT_NEAR(info.volume, 8.0, 8.0 * 0.02);
@@ -162,8 +160,8 @@ static vpv_levelset *icosahedron_levelset(const double c[3], double r, int renor
 {
     make_icosahedron(c, r, v, t);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, NULL, NULL, &ls, err, sizeof err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, NULL, NULL, &ls, err,
+                                              sizeof err));
     return ls;
 }
 
@@ -179,8 +177,7 @@ static void test_icosahedron_levelset(void)
     double v[36];
     uint32_t t[60];
     vpv_levelset *ls = icosahedron_levelset(c, r, 1, v, t);
-    int rc = vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_ensure_interior(ls, 0.3, err, sizeof err));
     vpv_levelset_info info;
     vpv_levelset_get_info(ls, &info);
     const double vol = icosahedron_volume(r);
@@ -340,20 +337,21 @@ static void test_levelset_roundtrip(void)
     uint32_t t[60];
     make_icosahedron(c, 1.0, v, t);
     vpv_levelset *ls = NULL;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_from_mesh(v, 12, t, 20, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err,
+                                              sizeof err));
     char a[300], b[300];
     tmp_path(a, sizeof a, "ls_a.vdb");
     tmp_path(b, sizeof b, "ls_b.vdb");
     vp_meta meta[3] = {{"generator", VP_META_STRING, "vdbpack test", 0, 0},
                        {"seed", VP_META_INT, NULL, 42, 0},
                        {"voxel", VP_META_DOUBLE, NULL, 0, 0.05}};
-    ASSERT_EQ_INT(vpv_levelset_write(ls, a, meta, 3, err, sizeof err), VP_OK);
-    ASSERT_EQ_INT(vpv_levelset_write(ls, b, meta, 3, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_write(ls, a, meta, 3, err, sizeof err));
+    ASSERT_OK_MSG(err, vpv_levelset_write(ls, b, meta, 3, err, sizeof err));
     ASSERT_TRUE(same_bytes(a, b));
 
     vpv_levelset *r1 = NULL, *r2 = NULL;
-    ASSERT_EQ_INT(vpv_levelset_read(a, "container", &r1, err, sizeof err), VP_OK);
-    ASSERT_EQ_INT(vpv_levelset_read(a, NULL, &r2, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_read(a, "container", &r1, err, sizeof err));
+    ASSERT_OK_MSG(err, vpv_levelset_read(a, NULL, &r2, err, sizeof err));
     vpv_levelset *r3 = (vpv_levelset *)1;
     ASSERT_EQ_INT(vpv_levelset_read(a, "nope", &r3, err, sizeof err), VP_ERR_NOT_LEVEL_SET);
     ASSERT_TRUE(r3 == NULL);
@@ -383,16 +381,16 @@ static void test_levelset_roundtrip(void)
     }
     /* Free one and create another (possibly at the same address). */
     vpv_levelset_destroy(r1);
-    ASSERT_EQ_INT(vpv_levelset_read(a, NULL, &r1, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_levelset_read(a, NULL, &r1, err, sizeof err));
     for (int i = 0; i < N; i += 17) ASSERT_NEAR(vpv_levelset_sample(r1, pts + 3 * i), s0[i], 1e-6);
 
     /* describe: metadata shown. */
     char *text = NULL;
-    ASSERT_EQ_INT(vpv_describe_file(a, 0, &text, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_describe_file(a, 0, &text, err, sizeof err));
     ASSERT_TRUE(strstr(text, "generator = vdbpack test") != NULL);
     ASSERT_TRUE(strstr(text, "level set") != NULL);
     free(text);
-    ASSERT_EQ_INT(vpv_describe_file(a, 1, &text, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_describe_file(a, 1, &text, err, sizeof err));
     ASSERT_TRUE(strstr(text, "\"seed\":42") != NULL);
     ASSERT_TRUE(strstr(text, "\"name\":\"container\"") != NULL);
     free(text);
@@ -461,7 +459,7 @@ static void test_shared_levelsets(void)
     vpv_levelset *ls = NULL;
     vpv_levelset_info info;
     if (file_exists(sph)) {
-        ASSERT_EQ_INT(vpv_levelset_read(sph, NULL, &ls, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vpv_levelset_read(sph, NULL, &ls, err, sizeof err));
         vpv_levelset_get_info(ls, &info);
         const double vol = 4.0 / 3.0 * M_PI * 27.0;
         fprintf(stderr, "   sphere: volume %g (%g) band %g\n", info.volume, vol, info.interior_band);
@@ -470,7 +468,7 @@ static void test_shared_levelsets(void)
         ASSERT_TRUE(strcmp(info.name, "ls_sphere") == 0);
         double o[3] = {0, 0, 0};
         ASSERT_TRUE(vpv_levelset_sample(ls, o) < 0);
-        ASSERT_EQ_INT(vpv_levelset_ensure_interior(ls, 1.0, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vpv_levelset_ensure_interior(ls, 1.0, err, sizeof err));
         vpv_levelset_get_info(ls, &info);
         ASSERT_GE(info.interior_band, 1.0);
         /* exact within the band (radius 3: 0.6 deep at r = 2.4), and beyond
@@ -484,15 +482,15 @@ static void test_shared_levelsets(void)
     }
     const char *zeno = VP_SHARED_CONTAINERS "/zeno_res.vdb";
     if (file_exists(zeno)) {
-        ASSERT_EQ_INT(vpv_levelset_read(zeno, NULL, &ls, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vpv_levelset_read(zeno, NULL, &ls, err, sizeof err));
         vpv_levelset_get_info(ls, &info);
         ASSERT_TRUE(info.name[0] == 0);
         ASSERT_TRUE(info.volume > 0);
         vpv_levelset_destroy(ls);
-        ASSERT_EQ_INT(vpv_levelset_read(zeno, "", &ls, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vpv_levelset_read(zeno, "", &ls, err, sizeof err));
         vpv_levelset_destroy(ls);
         char *text = NULL;
-        ASSERT_EQ_INT(vpv_describe_file(zeno, 0, &text, err, sizeof err), VP_OK);
+        ASSERT_OK_MSG(err, vpv_describe_file(zeno, 0, &text, err, sizeof err));
         ASSERT_TRUE(strstr(text, "(unnamed)") != NULL);
         free(text);
     }
@@ -518,7 +516,7 @@ static double json_number(const char *json, const char *key)
 static void check_points_file(const char *path, const vp_particles *src, int full)
 {
     char *json = NULL;
-    ASSERT_EQ_INT(vpv_describe_file(path, 1, &json, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_describe_file(path, 1, &json, err, sizeof err));
     const double voxel = json_number(json, "\"voxel_size\":");
     ASSERT_TRUE(voxel > 0);
     ASSERT_TRUE(strstr(json, "\"points\":1000") != NULL);
@@ -528,9 +526,7 @@ static void check_points_file(const char *path, const vp_particles *src, int ful
     free(json);
 
     vp_particles *r = NULL;
-    int rc = vpv_points_read(path, &r, err, sizeof err);
-    if (rc) fprintf(stderr, "%s\n", err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_read(path, &r, err, sizeof err));
     ASSERT_EQ_INT(r->count, src->count);
     ASSERT_EQ_INT(r->capacity, src->count);
     ASSERT_EQ_INT(r->group_count, src->group_count);
@@ -610,20 +606,18 @@ static void test_points(void)
     tmp_path(a, sizeof a, "points_a.vdb");
     tmp_path(b, sizeof b, "points_b.vdb");
     tmp_path(f, sizeof f, "points_full.vdb");
-    int rc = vpv_points_write(a, &p, &wp, err, sizeof err);
-    if (rc) fprintf(stderr, "%s\n", err);
-    ASSERT_EQ_INT(rc, VP_OK);
-    ASSERT_EQ_INT(vpv_points_write(b, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(a, &p, &wp, err, sizeof err));
+    ASSERT_OK_MSG(err, vpv_points_write(b, &p, &wp, err, sizeof err));
     ASSERT_TRUE(same_bytes(a, b));
     check_points_file(a, &p, 0);
     check_cuts(a, 1);
     wp.full_precision = 1;
-    ASSERT_EQ_INT(vpv_points_write(f, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(f, &p, &wp, err, sizeof err));
     check_points_file(f, &p, 1);
 
     /* Text description: quats, groups with counts. */
     char *text = NULL;
-    ASSERT_EQ_INT(vpv_describe_file(a, 0, &text, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_describe_file(a, 0, &text, err, sizeof err));
     ASSERT_TRUE(strstr(text, "orient: quats") != NULL);
     ASSERT_TRUE(strstr(text, "P: vec3s [fxpt16]") != NULL);
     ASSERT_TRUE(strstr(text, "inner: 334") != NULL);
@@ -664,9 +658,9 @@ static void test_points(void)
     strcpy(p.group_names[0], "all");
     p.shape = VP_SHAPE_SPHERE;
     wp.full_precision = 0;
-    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(a, &p, &wp, err, sizeof err));
     vp_particles *r = NULL;
-    ASSERT_EQ_INT(vpv_points_read(a, &r, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_read(a, &r, err, sizeof err));
     ASSERT_EQ_INT(r->count, N);
     ASSERT_TRUE(r->radii == NULL && r->uniform_radius == 0.25f);
     ASSERT_TRUE(r->orients == NULL && r->has_orient == 1 && r->uniform_orient[2] == 0.6f && r->uniform_orient[3] == 0.8f);
@@ -682,15 +676,15 @@ static void test_points(void)
     /* One particle, then none. */
     p.count = 1;
     p.has_orient = 0;
-    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_OK);
-    ASSERT_EQ_INT(vpv_points_read(a, &r, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(a, &p, &wp, err, sizeof err));
+    ASSERT_OK_MSG(err, vpv_points_read(a, &r, err, sizeof err));
     ASSERT_EQ_INT(r->count, 1);
     ASSERT_TRUE(r->has_orient == 0 && r->orients == NULL);
     for (int k = 0; k < 3; ++k) ASSERT_NEAR(r->positions[k], p.positions[k], 0.5 / 65535.0 * 2);
     free_particles(r);
     p.count = 0;
-    ASSERT_EQ_INT(vpv_points_write(a, &p, &wp, err, sizeof err), VP_OK);
-    ASSERT_EQ_INT(vpv_points_read(a, &r, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(a, &p, &wp, err, sizeof err));
+    ASSERT_OK_MSG(err, vpv_points_read(a, &r, err, sizeof err));
     ASSERT_EQ_INT(r->count, 0);
     ASSERT_TRUE(r->group_count >= 1);
     free_particles(r);
@@ -724,11 +718,9 @@ static void touching_cubes(vp_particles *p, int n, float r, double c)
 static double roundtrip_error(const char *path, const vp_particles *p, const vp_write_params *wp,
                               double *pe)
 {
-    int rc = vpv_points_write(path, p, wp, err, sizeof err);
-    if (rc) fprintf(stderr, "   write: %s\n", err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(path, p, wp, err, sizeof err));
     vp_particles *r = NULL;
-    ASSERT_EQ_INT(vpv_points_read(path, &r, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_read(path, &r, err, sizeof err));
     ASSERT_EQ_INT(r->count, p->count);
     double worst = 0;
     for (size_t i = 0; i < p->count; ++i) {
@@ -774,7 +766,7 @@ static void test_points_tiny_radii(void)
     ASSERT_GE(rep.fixed16_error, VP_POSITION_ERROR_LIMIT * 2e-8);
     ASSERT_GE(rep.voxel_size, VP_POINTS_MIN_VOXEL);
     char *json = NULL;
-    ASSERT_EQ_INT(vpv_describe_file(path, 1, &json, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_describe_file(path, 1, &json, err, sizeof err));
     ASSERT_TRUE(strstr(json, "\"codec\":\"null\"") != NULL);
     ASSERT_TRUE(strstr(json, "\"position_precision_requested\":\"fixed16\"") != NULL);
     free(json);
@@ -868,9 +860,9 @@ static void test_points_memory_estimate(void)
     FILE *f = fopen(path, "rb");
     ASSERT_TRUE(f == NULL); /* refused before anything was written */
     wp.max_memory = 40000000; /* 40 MB: passes */
-    ASSERT_EQ_INT(vpv_points_write(path, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(path, &p, &wp, err, sizeof err));
     wp.max_memory = 0; /* no limit */
-    ASSERT_EQ_INT(vpv_points_write(path, &p, &wp, err, sizeof err), VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(path, &p, &wp, err, sizeof err));
     /* the same count packed close (radius 1e-3, a grid of spacing 2e-3):
      * a few leaves, under 8 MB */
     p.uniform_radius = 1e-3f;
@@ -880,19 +872,17 @@ static void test_points_memory_estimate(void)
         p.positions[3 * i + 2] = 2e-3 * (i / 225);
     }
     wp.max_memory = 8000000;
-    rc = vpv_points_write(path, &p, &wp, err, sizeof err);
-    if (rc) fprintf(stderr, "%s\n", err);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK_MSG(err, vpv_points_write(path, &p, &wp, err, sizeof err));
     free(p.positions);
 }
 
 static void test_check_imprecise(void)
 {
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_container *c = NULL;
     const double o[3] = {0, 0, 0};
-    ASSERT_EQ_INT(vp_container_create_sphere(ctx, o, 1e-6, &c), VP_OK);
+    ASSERT_OK(ctx, vp_container_create_sphere(ctx, o, 1e-6, &c));
     vp_particles p;
     touching_cubes(&p, 3, 2e-8f, 0.0);
     /* overlap the first pair by 0.4 % of r_i + r_j */
@@ -903,18 +893,18 @@ static void test_check_imprecise(void)
     vp_check_report rep;
     /* exact positions: the overlap is found */
     p.position_error = 0;
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, &p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, &p, &cp, &rep));
     ASSERT_EQ_INT(rep.overlapping_pairs, 1);
     ASSERT_EQ_INT(rep.imprecise, 0);
     /* a file's 16-bit error in the smallest voxel (3.8e-10): the widened
      * tolerance hides the overlap, so the set is imprecise */
     p.position_error = vpv_points_error(VP_POINTS_MIN_VOXEL, 0);
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, &p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, &p, &cp, &rep));
     ASSERT_EQ_INT(rep.imprecise, 1);
     ASSERT_NEAR(rep.position_error_ratio, p.position_error / 2e-8, 1e-6);
     /* float P there (1.5e-12): fine, and the overlap is still found */
     p.position_error = vpv_points_error(VP_POINTS_MIN_VOXEL, 1);
-    ASSERT_EQ_INT(vp_check_particles(ctx, c, &p, &cp, &rep), VP_OK);
+    ASSERT_OK(ctx, vp_check_particles(ctx, c, &p, &cp, &rep));
     ASSERT_EQ_INT(rep.imprecise, 0);
     ASSERT_EQ_INT(rep.overlapping_pairs, 1);
     free(p.positions);
@@ -939,41 +929,46 @@ static int thread_count(void)
  * 30 s" when describing it right after reading its points. Here: points
  * spread over many nodes, read (TBB workers start), then described with a
  * short deadline; and vpv_quiesce_threads leaves no TBB worker behind. */
-static void test_probe_after_tbb_work(void)
+enum { SPREAD_N = 20000 };
+
+/* SPREAD_N points spread over many nodes, written to the temporary file
+ * `name`; its path in f. */
+static void write_spread_points(const char *name, char *f, size_t flen)
 {
-    enum { N = 20000 };
     vp_particles p;
-    particles_with_positions(&p, N);
+    particles_with_positions(&p, SPREAD_N);
     p.uniform_radius = 0.004f;
     p.group_count = 1;
     strcpy(p.group_names[0], "all");
     srand(5);
-    for (int i = 0; i < 3 * N; ++i) p.positions[i] = 4.0 * rand() / RAND_MAX;
+    for (int i = 0; i < 3 * SPREAD_N; ++i) p.positions[i] = 4.0 * rand() / RAND_MAX;
     vp_write_params wp;
     memset(&wp, 0, sizeof wp);
-    char f[300];
-    tmp_path(f, sizeof f, "probe_after_tbb.vdb");
-    ASSERT_EQ_INT(vpv_points_write(f, &p, &wp, err, sizeof err), VP_OK);
+    tmp_path(f, flen, name);
+    ASSERT_OK_MSG(err, vpv_points_write(f, &p, &wp, err, sizeof err));
     free(p.positions);
+}
+
+static void test_probe_after_tbb_work(void)
+{
+    enum { N = SPREAD_N };
+    char f[300];
+    write_spread_points("probe_after_tbb.vdb", f, sizeof f);
 
     /* threads that are not TBB's: the main one and log4cplus's idle pool */
     ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
     int base = thread_count();
     setenv("VDBPACK_READ_TIMEOUT", "8", 1);
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     for (int round = 0; round < 3; ++round) {
         vp_particles *r = NULL;
-        vp_result rc = vp_read_points(ctx, f, &r);
-        if (rc != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
-        ASSERT_EQ_INT(rc, VP_OK);
+        ASSERT_OK(ctx, vp_read_points(ctx, f, &r));
         ASSERT_EQ_INT(r->count, N);
         vp_particles_destroy(r);
         fprintf(stderr, "   round %d: %d threads after the read\n", round, thread_count());
         char *text = NULL;
-        rc = vp_describe_file(ctx, f, 0, &text);
-        if (rc != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
-        ASSERT_EQ_INT(rc, VP_OK);
+        ASSERT_OK(ctx, vp_describe_file(ctx, f, 0, &text));
         ASSERT_TRUE(strstr(text, "points: 20000") != NULL);
         free(text);
     }
@@ -988,8 +983,7 @@ static void test_probe_after_tbb_work(void)
 /* Another thread of the caller inside a TBB algorithm (a voxelization held
  * in its progress callback): TBB cannot end its workers, vpv_quiesce_threads
  * says so at once instead of waiting, and a .vdb is still read (in-process,
- * without the forked check) rather than hanging in a child. It reads the
- * file test_probe_after_tbb_work wrote. */
+ * without the forked check) rather than hanging in a child. */
 static _Atomic int busy_started, busy_release;
 
 static void nap_ms(long ms)
@@ -1023,24 +1017,23 @@ static void test_quiesce_while_tbb_busy(void)
 {
     alarm(120); /* a hang here is the failure this test looks for */
     char f[300];
-    tmp_path(f, sizeof f, "probe_after_tbb.vdb");
+    write_spread_points("quiesce_busy.vdb", f, sizeof f);
+    ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
     int rc = -1;
     pthread_t th;
     ASSERT_EQ_INT(pthread_create(&th, NULL, busy_voxelize, &rc), 0);
     while (!busy_started) nap_ms(1);
     ASSERT_EQ_INT(vpv_quiesce_threads(), -1);
     vp_context *ctx = NULL;
-    ASSERT_EQ_INT(vp_context_create(&ctx), VP_OK);
+    ASSERT_OK(NULL, vp_context_create(&ctx));
     char *text = NULL;
-    vp_result r = vp_describe_file(ctx, f, 0, &text);
-    if (r != VP_OK) fprintf(stderr, "   %s\n", vp_context_message(ctx));
-    ASSERT_EQ_INT(r, VP_OK);
+    ASSERT_OK(ctx, vp_describe_file(ctx, f, 0, &text));
     ASSERT_TRUE(strstr(text, "points: 20000") != NULL);
     free(text);
     vp_context_destroy(ctx);
     busy_release = 1;
     ASSERT_EQ_INT(pthread_join(th, NULL), 0);
-    ASSERT_EQ_INT(rc, VP_OK);
+    ASSERT_OK(NULL, rc);
     ASSERT_EQ_INT(vpv_quiesce_threads(), 0);
     alarm(0);
 }

@@ -8,6 +8,8 @@
 #include <string.h>
 #include <math.h>
 
+#include "vdbpack/vdbpack.h"
+
 /* Failure counter for tests that keep going after a failed check. */
 static int vp_test_failures __attribute__((unused)) = 0;
 
@@ -78,20 +80,53 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
 #endif
 
 /* A library call that must succeed: on failure prints the call, the
- * result's name and the context's message. */
-#ifdef VDBPACK_VDBPACK_H
-#define ASSERT_OK(ctx, call) do { vp_result r_ = (call); if (r_ != VP_OK) { \
+ * result's name and the context's message (ctx may be NULL: no message). */
+#define ASSERT_OK(ctx, call) do { vp_result r_ = (vp_result)(call); if (r_ != VP_OK) { \
     fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
     vp_result_name(r_), vp_context_message(ctx)); exit(1); } } while (0)
+/* The same for an internal call that reports into a message buffer (the
+ * `char *err, size_t errlen` of src/vdb and src/mesh) instead of a context. */
+#define ASSERT_OK_MSG(msg, call) do { vp_result r_ = (vp_result)(call); if (r_ != VP_OK) { \
+    fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
+    vp_result_name(r_), (const char *)(msg)); exit(1); } } while (0)
 /* A library call that must fail with result `want`. */
-#define ASSERT_FAILS(ctx, want, call) do { vp_result r_ = (call); if (r_ != (want)) { \
+#define ASSERT_FAILS(ctx, want, call) do { vp_result r_ = (vp_result)(call); if (r_ != (want)) { \
     fprintf(stderr, "%s:%d: %s gave %s, not %s (message: %s)\n", __FILE__, __LINE__, \
     #call, vp_result_name(r_), vp_result_name(want), vp_context_message(ctx)); exit(1); } \
     } while (0)
-#endif
 
-/* VP_TEST=NAME runs only the cases whose name contains NAME. */
-#define RUN_TEST(fn) do { const char *only_ = getenv("VP_TEST"); \
-    if (!only_ || strstr(#fn, only_)) { fprintf(stderr, "-- %s\n", #fn); fn(); } } while (0)
-#define RUN_TEST_ARGS(call) do { fprintf(stderr, "-- %s\n", #call); call; } while (0)
+/* Which cases run: with VP_TEST_CASE=NAME only the case named NAME (what
+ * CTest sets: each case is its own CTest test, tests/CMakeLists.txt), and
+ * a run in which no case has that name fails; with VP_TEST=NAME the cases
+ * whose name contains NAME; otherwise all. */
+static int vp_test_ran_ __attribute__((unused)) = 0;
+static void vp_test_check_ran_(void) __attribute__((unused));
+static void vp_test_check_ran_(void) {
+    if (vp_test_ran_) return;
+    fprintf(stderr, "VP_TEST_CASE=%s: no case of that name\n", getenv("VP_TEST_CASE"));
+    fflush(stderr);
+    _Exit(1);
+}
+static int vp_test_wanted(const char *name) __attribute__((unused));
+static int vp_test_wanted(const char *name) {
+    static int checked = 0;
+    const char *one = getenv("VP_TEST_CASE");
+    if (one && *one) {
+        if (!checked) {
+            checked = 1;
+            atexit(vp_test_check_ran_);
+        }
+        if (strcmp(name, one) != 0) return 0;
+        vp_test_ran_ = 1;
+        return 1;
+    }
+    const char *part = getenv("VP_TEST");
+    return !part || strstr(name, part) != NULL;
+}
+/* A case: RUN_TEST(fn) runs fn(); RUN_CASE(name, call) runs call under the
+ * name `name` (an identifier: tests/CMakeLists.txt finds both forms in the
+ * source and registers one CTest test per name). */
+#define RUN_CASE(name, call) do { if (vp_test_wanted(#name)) { \
+    fprintf(stderr, "-- %s\n", #name); call; } } while (0)
+#define RUN_TEST(fn) RUN_CASE(fn, fn())
 #endif

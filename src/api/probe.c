@@ -25,6 +25,39 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#ifndef VP_SUBPROC_IN_PROCESS
+
+/* What the child answers: fn's result and message. */
+typedef struct probe_call {
+    vp_probe_fn fn;
+    const void *arg;
+    int32_t rc;
+    uint32_t n;
+    char msg[1024];
+} probe_call;
+
+/* In the child: runs the read, writes its result and message. */
+static int probe_child(int fd, void *user) {
+    probe_call *c = user;
+    char err[1024] = "";
+    int32_t rc = c->fn(c->arg, err, sizeof err);
+    uint32_t n = (uint32_t)strlen(err);
+    int bad = vp_subproc_write_all(fd, &rc, sizeof rc) ||
+              vp_subproc_write_all(fd, &n, sizeof n) ||
+              vp_subproc_write_all(fd, err, n);
+    return bad ? 3 : 0;
+}
+
+/* In the parent: reads what probe_child wrote. */
+static int probe_answer(int fd, vp_subproc_watch *w, void *user) {
+    probe_call *c = user;
+    int rr = vp_subproc_read_all(fd, &c->rc, sizeof c->rc, w);
+    if (rr == 0) rr = vp_subproc_read_all(fd, &c->n, sizeof c->n, w);
+    if (rr == 0 && c->n >= sizeof c->msg) rr = -1;
+    if (rr == 0) rr = vp_subproc_read_all(fd, c->msg, c->n, w);
+    return rr;
+}
+#endif
 
 vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const void *arg) {
 #ifdef VP_SUBPROC_IN_PROCESS
@@ -43,59 +76,29 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
      * algorithm), a forked read could hang on a sound file, so the file is
      * read in-process only, without this guard */
     if (vpv_quiesce_threads() != 0) return VP_OK;
-    int fds[2];
-    if (vp_subproc_pipe(fds) != 0)
-        return vp_fail(ctx, VP_ERR_IO, "%s: cannot start the file check (pipe: %s)",
-                       vp_path_base(path), strerror(errno));
     /* its own process group, dies with this thread, default signal
      * actions, stdio on /dev/null (glibc's and OpenVDB's own messages on a
      * crash would make a second error line), and a runaway allocation ends
      * the child, not the machine: the context's memory limit */
     vp_subproc_guard guard;
     vp_context_child_guard(ctx, &guard);
-    pid_t pid = vp_subproc_fork(&guard);
-    if (pid < 0) {
-        close(fds[0]);
-        close(fds[1]);
+    probe_call call = {fn, arg, 0, 0, ""};
+    int status = 0;
+    switch (vp_subproc_run(timeout, &guard, probe_child, probe_answer, &call, &status)) {
+    case VP_SUBPROC_NO_PIPE:
+        return vp_fail(ctx, VP_ERR_IO, "%s: cannot start the file check (pipe: %s)",
+                       vp_path_base(path), strerror(errno));
+    case VP_SUBPROC_NO_FORK:
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: cannot start the file check (fork: %s)",
                        vp_path_base(path), strerror(errno));
-    }
-    if (pid == 0) {
-        close(fds[0]);
-        char err[1024] = "";
-        int32_t rc = fn(arg, err, sizeof err);
-        uint32_t n = (uint32_t)strlen(err);
-        int bad = vp_subproc_write_all(fds[1], &rc, sizeof rc) ||
-                  vp_subproc_write_all(fds[1], &n, sizeof n) ||
-                  vp_subproc_write_all(fds[1], err, n);
-        _exit(bad ? 3 : 0);
-    }
-    close(fds[1]);
-    vp_subproc_watch watch;
-    vp_subproc_watch_start(&watch, pid, timeout);
-    watch.guard = &guard;
-    int32_t rc = 0;
-    uint32_t n = 0;
-    char msg[1024];
-    int rr = vp_subproc_read_all(fds[0], &rc, sizeof rc, &watch);
-    if (rr == 0) rr = vp_subproc_read_all(fds[0], &n, sizeof n, &watch);
-    if (rr == 0 && n >= sizeof msg) rr = -1;
-    if (rr == 0) rr = vp_subproc_read_all(fds[0], msg, n, &watch);
-    close(fds[0]);
-    int status = 0;
-    if (rr == 3) {
-        vp_subproc_kill(pid, NULL);
+    case VP_SUBPROC_CANCELLED:
         return vp_fail(ctx, VP_ERR_CANCELLED, "cancelled");
-    }
-    if (rr == 2) {
-        vp_subproc_kill(pid, NULL);
+    case VP_SUBPROC_TIMEOUT:
         return vp_fail(ctx, VP_ERR_FORMAT,
                        "%s: OpenVDB's reader did not finish within %.0f s; the file is probably "
                        "corrupt (set VDBPACK_READ_TIMEOUT to allow longer)",
                        vp_path_base(path), timeout);
-    }
-    status = vp_subproc_wait(pid);
-    if (rr != 0) {
+    case VP_SUBPROC_FAILED:
         if (WIFSIGNALED(status))
             return vp_fail(ctx, VP_ERR_FORMAT,
                            "%s: OpenVDB's reader crashed on this file (signal %d); the file is "
@@ -105,9 +108,11 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
                        "%s: OpenVDB's reader failed on this file (exit status %d); the file is "
                        "probably corrupt",
                        vp_path_base(path), WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    case VP_SUBPROC_ANSWERED:
+        break;
     }
-    msg[n] = '\0';
-    if (rc != VP_OK) return vp_fail(ctx, (vp_result)rc, "%s", msg);
+    call.msg[call.n] = '\0';
+    if (call.rc != VP_OK) return vp_fail(ctx, (vp_result)call.rc, "%s", call.msg);
     return VP_OK;
 #endif
 }

@@ -16,6 +16,7 @@
 #include "core/geom.h"
 #include "core/lattice_basis.h"
 #include "core/parallel.h"
+#include "core/rng.h"
 #include "core/shape.h"
 #include "core/superball.h"
 
@@ -44,21 +45,6 @@ typedef struct setup {
 } setup;
 
 /* --- small helpers ------------------------------------------------------ */
-
-static uint64_t splitmix64(uint64_t *s) {
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-static double rand01(uint64_t *s) { return (double)(splitmix64(s) >> 11) * 0x1.0p-53; }
-
-static void random_quat(uint64_t *s, double q[4]) {
-    /* Shoemake's uniform random rotation. */
-    double u1 = rand01(s), u2 = rand01(s) * 2 * M_PI, u3 = rand01(s) * 2 * M_PI;
-    double a = sqrt(1 - u1), b = sqrt(u1);
-    q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
-}
 
 static int invert3(const double m[3][3], double inv[3][3]) {
     double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
@@ -495,7 +481,7 @@ static vp_result search_once(const search_cfg *cfg, double r, placement *best,
     setup best_s;
     for (int rot = 0; rot < nrot; rot++) {
         double q[4] = {0, 0, 0, 1};
-        if (rot > 0) random_quat(&rng, q);
+        if (rot > 0) vp_rng_quat_shoemake(&rng, q);
         setup s;
         setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->sb, cfg->fit, r, q);
         s.dm = cfg->dm;
@@ -749,6 +735,322 @@ static double radius_step(const vp_container *c, vp_fit fit, double r, size_t co
     return nr;
 }
 
+/* What vp_pack_lattice works from: its arguments, checked, and what
+ * follows from them. */
+typedef struct lattice_job {
+    vp_context *ctx;
+    const vp_container *c;
+    const vp_lattice_params *params;
+    vp_lattice_basis lb;
+    const vp_polyhedron *poly; /* NULL: sphere or superball */
+    int superball;
+    double sb;                 /* superball exponent; 0: not a superball */
+    double unit_vol;           /* particle volume at radius 1 */
+    double extent;             /* the container's smallest extent */
+    int count_mode;            /* --count without --radius */
+    double r;                  /* the radius (count mode: the first guess) */
+    uint64_t limit;            /* the context's memory limit */
+    double m_unit;             /* largest offset / r (ambiguous_count) */
+} lattice_job;
+
+/* The searches of one call: the full one (cfg), the one without rotations
+ * it also runs (plain), count mode's quick one, and the depth map they
+ * share (freed by the caller). */
+typedef struct lattice_searches {
+    search_cfg cfg, plain, quick;
+    vp_depth_map dm;
+} lattice_searches;
+
+/* Where count mode stopped short: the radius its guard refused (0: none),
+ * that radius's ambiguous points, and the smallest radius searched. */
+typedef struct count_stop {
+    double wall_r, wall_amb, min_r;
+} count_stop;
+
+/* Step 1: checks the shape, lattice, container and radius, and fills J. */
+static vp_result check_arguments(vp_context *ctx, const vp_container *c,
+                                 const vp_lattice_params *params, lattice_job *J) {
+    memset(J, 0, sizeof *J);
+    J->ctx = ctx;
+    J->c = c;
+    J->params = params;
+    J->superball = params->shape == VP_SHAPE_SUPERBALL;
+    J->sb = J->superball ? params->shape_param : 0.0;
+    const int superball = J->superball;
+    const double sb = J->sb;
+    if (superball && !(sb >= VP_SUPERBALL_P_MIN && sb <= VP_SUPERBALL_P_MAX))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "lattice: a superball's exponent must be in [%g, %g], not %g",
+                       VP_SUPERBALL_P_MIN, VP_SUPERBALL_P_MAX, sb);
+    if (vp_lattice_basis_get_param(params->shape, sb, params->lattice, &J->lb) != 0)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "--lattice %s is for spheres; a %s packs on its densest lattice",
+                       vp_lattice_name(params->lattice), vp_shape_name(params->shape));
+    J->poly = vp_shape_polyhedron(params->shape);
+    J->unit_vol = vp_shape_unit_volume_param(params->shape, sb);
+    const double rin = J->poly ? J->poly->inradius : superball ? vp_superball_inradius(sb) : 1.0;
+    if (!(c->info.volume > 0))
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "the container has no inside (volume 0)");
+    double r = params->radius;
+    if (r == 0.0 && params->count > 0) {
+        J->count_mode = 1;
+        r = cbrt(c->info.volume * J->lb.fraction / ((double)params->count * J->unit_vol));
+    } else if (!(r > 0) || !isfinite(r)) {
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "the radius must be a positive finite number (or give --count N > 0)");
+    }
+    double extent = HUGE_VAL;
+    for (int i = 0; i < 3; i++) {
+        double e = c->info.bmax[i] - c->info.bmin[i];
+        if (e < extent) extent = e;
+    }
+    J->extent = extent;
+    if (!J->count_mode && params->fit == VP_FIT_INSIDE && 2 * r * rin > extent)
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "radius %g is too large: no particle fits in the container (its smallest "
+                       "extent is %g)", r, extent);
+    if (params->fit == VP_FIT_INSIDE && J->count_mode && r > c->info.interior_band)
+        r = c->info.interior_band;
+    if (params->fit == VP_FIT_INSIDE && r > c->info.interior_band * (1 + 1e-9))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "radius %g exceeds the container's interior band %g (distances deeper "
+                       "inside are unknown); reload the container for this radius", r,
+                       c->info.interior_band);
+    J->r = r;
+    return VP_OK;
+}
+
+/* Step 2: the memory and work guard, before anything large is allocated. */
+static vp_result check_budget(lattice_job *J) {
+    vp_context *ctx = J->ctx;
+    const vp_lattice_params *params = J->params;
+    const double r = J->r;
+    double est = estimate_count(J->c, &J->lb, J->unit_vol, r);
+    double bytes = est * 40.0 + est * 40.0; /* positions + output attributes */
+    J->limit = vp_memory_limit(ctx);
+    const uint64_t limit = J->limit;
+    if (bytes > (double)limit || est > 4e9) {
+        char a[32], b[32];
+        vp_format_bytes(bytes, a, sizeof a);
+        vp_format_bytes((double)limit, b, sizeof b);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "about %.3g particles of radius %g need an estimated %s, more than the "
+                       "limit of %s (--max-memory)", est, r, a, b);
+    }
+    J->m_unit = 0.0;
+    double amb = ambiguous_count(J->c, &J->lb, J->poly, J->sb, params->fit, r, &J->m_unit);
+    if (J->count_mode && (amb > VP_COUNT_AMB_WORK + 100.0 * (double)params->count ||
+                          amb * VP_AMB_BYTES > (double)limit))
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "lattice: --count %zu is out of reach in this container (smallest extent "
+                       "%g): at radius %g about %.3g lattice points lie near its walls, too many "
+                       "to search for %zu; give --radius, or use --method rsa",
+                       params->count, J->extent, r, amb, params->count);
+    if (amb * VP_AMB_BYTES > (double)limit) {
+        char a[32], b[32];
+        vp_format_bytes(amb * VP_AMB_BYTES, a, sizeof a);
+        vp_format_bytes((double)limit, b, sizeof b);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "lattice: at radius %g about %.3g lattice points lie near the container's "
+                       "walls (all of them when it is only a few radii thick), and the placement "
+                       "search would need an estimated %s for them, more than the limit of %s "
+                       "(--max-memory)", r, amb, a, b);
+    }
+    return VP_OK;
+}
+
+/* Step 3: the searches' settings, and the container's depth map (level
+ * sets only; S->dm, which the caller frees). */
+static void plan_searches(const lattice_job *J, lattice_searches *S) {
+    const vp_lattice_params *params = J->params;
+    search_cfg *cfg = &S->cfg;
+    memset(cfg, 0, sizeof *cfg);
+    cfg->c = J->c;
+    cfg->lb = &J->lb;
+    cfg->poly = J->poly;
+    cfg->sb = J->sb;
+    cfg->fit = params->fit;
+    cfg->seed = params->seed;
+    cfg->threads = vp_threads_for(J->ctx);
+    cfg->ctx = J->ctx;
+    memset(&S->dm, 0, sizeof S->dm);
+    if (J->c->depth_map && J->c->depth_map(J->c, &S->dm) == 0) cfg->dm = &S->dm;
+    cfg->refine = 1;
+    cfg->rotations = params->rotate ? (params->rotations > 0 ? params->rotations : 24) : 1;
+    if (params->offsets > 0) {
+        cfg->offsets = params->offsets;
+        cfg->refine = params->offsets > 1;
+    } else {
+        cfg->offsets = params->rotate ? 32 : 128;
+        cfg->budgeted = 1;
+    }
+
+    /* with --rotate, also the search that runs without it (search) */
+    S->plain = *cfg;
+    if (cfg->rotations > 1) {
+        S->plain.rotations = 1;
+        if (params->offsets == 0) S->plain.offsets = 128;
+        cfg->plain = &S->plain;
+    }
+
+    /* Count mode finds the radius with one offset per radius (the search
+     * moves the count by a fraction of a per cent), then searches once. */
+    search_cfg *quick = &S->quick;
+    *quick = *cfg;
+    quick->offsets = 1;
+    quick->rotations = 1;
+    quick->refine = 0;
+    quick->budgeted = 0;
+    quick->plain = NULL;
+    /* the first count of a large packing only steps the radius (below):
+     * an estimate from every 4th slab is within a few in 10^4 */
+    if (J->count_mode && params->count >= 1e5 && (cfg->offsets > 1 || cfg->rotations > 1))
+        quick->slab_stride = 4;
+}
+
+/* Step 4 (count mode): the radius whose best placement comes closest to
+ * the count asked, from the first search's radius J->r and placement
+ * *best; the radius in J->r, its placement in *best. *stop says where a
+ * guard stopped the steps. */
+static vp_result fit_count(lattice_job *J, lattice_searches *S, placement *best,
+                           search_stats *st, vp_lattice_report *rep, count_stop *stop) {
+    const vp_container *c = J->c;
+    const vp_lattice_params *params = J->params;
+    search_cfg *cfg = &S->cfg, *quick = &S->quick;
+    double r = J->r;
+    vp_result res = VP_OK;
+    /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest.
+     * First with the quick evaluation, then (the search adds particles,
+     * a lot of them in small packings) with the full search, which for
+     * large packings is already within 1 % on its first try. */
+    double target = (double)params->count;
+    /* phase 0's closest, when it was measured exactly (not the large
+     * packing's estimate): the full search maximises the count at each
+     * radius, so it may never come as close (one sphere asked in
+     * box:1,2,3: it finds 3 up to radius 0.5 and none beyond) */
+    int kept = 0;
+    double kept_r = r, kept_err = HUGE_VAL;
+    placement kept_p = *best;
+    for (int phase = 0; phase < 2; phase++) {
+        const search_cfg *sc = phase ? cfg : quick;
+        if (phase) {
+            if (cfg->offsets <= 1 && cfg->rotations <= 1) break;
+            if (best->count == 0 && stop->wall_r > 0.0) break; /* refused below */
+            res = search(cfg, r, best, st);
+            if (res != VP_OK) goto out;
+        }
+        double best_r = r, best_err = best->count ? fabs((double)best->count - target) : HUGE_VAL;
+        placement best_p = *best;
+        if (phase == 0 && target >= 1e5 && (cfg->offsets > 1 || cfg->rotations > 1)) {
+            /* A large packing: the full search follows and counts
+             * again, and the r^-3 model is then within a fraction of
+             * a per cent, so step once without re-evaluating. */
+            double nr = radius_step(c, params->fit, r, best->count, target);
+            if (best_err > 0.001 * target && nr != r) {
+                r = nr;
+                rep->radius_iterations++;
+            }
+            quick->slab_stride = 1;
+            continue;
+        }
+        /* the largest radius seen whose count reached the target and
+         * the smallest whose count fell short: a bracket for the
+         * bisection below */
+        double lo_r = best->count >= target ? r : 0, hi_r = best->count < target ? r : HUGE_VAL;
+        /* full searches (phase 1) cost far more than quick ones */
+        int max_it = phase ? 16 : 48;
+        for (int it = 0; it < max_it && best_err > 0.01 * target; it++) {
+            double nr = radius_step(c, params->fit, r, best->count, target);
+            if (lo_r > 0 && hi_r < HUGE_VAL && (it >= 16 || !(nr > lo_r && nr < hi_r))) {
+                /* Small counts move in steps of one or more, so the
+                 * r^-3 model overshoots or stalls around them (5 on
+                 * the peanut gave 4): bisect the bracket instead. */
+                /* a jump in the count (a layer): no radius between */
+                if (hi_r - lo_r <= 1e-6 * hi_r) break;
+                nr = 0.5 * (lo_r + hi_r);
+            } else if (it >= 16) {
+                break;
+            }
+            if (nr == r) break;
+            r = nr;
+            if (estimate_count(c, &J->lb, J->unit_vol, r) > 4e9) break;
+            double na = ambiguous_count(c, &J->lb, J->poly, J->sb, params->fit, r, &J->m_unit);
+            if (na > VP_COUNT_AMB_WORK + 100.0 * target || na * VP_AMB_BYTES > (double)J->limit) {
+                stop->wall_r = r;
+                stop->wall_amb = na;
+                break;
+            }
+            res = search(sc, r, best, st);
+            if (res != VP_OK) goto out;
+            rep->radius_iterations++;
+            if (r < stop->min_r) stop->min_r = r;
+            if (best->count >= target && r > lo_r) lo_r = r;
+            if (best->count < target && r < hi_r) hi_r = r;
+            /* no particle at all is never the answer */
+            double e = best->count ? fabs((double)best->count - target) : HUGE_VAL;
+            /* equally close: the count above the target (at least N) */
+            if (e < best_err || (e == best_err && best->count > best_p.count)) {
+                best_err = e;
+                best_r = r;
+                best_p = *best;
+            }
+        }
+        r = best_r;
+        *best = best_p;
+        if (phase == 0) {
+            kept = 1;
+            kept_r = r;
+            kept_err = best_err;
+            kept_p = *best;
+        } else if (kept && kept_err < best_err) {
+            r = kept_r;
+            *best = kept_p;
+        }
+    }
+out:
+    J->r = r;
+    return res;
+}
+
+/* Step 5: the particles of the chosen placement at radius J->r, and the
+ * report. */
+static vp_result place(const lattice_job *J, const lattice_searches *S, const placement *best,
+                       const search_stats *st, vp_lattice_report *rep, vp_particles **out) {
+    vp_context *ctx = J->ctx;
+    const vp_lattice_params *params = J->params;
+    const double r = J->r;
+    setup s;
+    setup_build(&s, J->c, &J->lb, J->poly, J->sb, params->fit, r, best->q);
+    s.dm = S->cfg.dm;
+    vp_particles *p = NULL;
+    double o[3];
+    vp_result res = generate(ctx, &s, best->u, S->cfg.threads, &p, o);
+    if (res != VP_OK) return res;
+    if (p->count == 0) {
+        vp_particles_destroy(p);
+        return vp_fail(ctx, VP_ERR_NO_FIT,
+                       "no particle of radius %g fits in the container with --fit %s", r,
+                       params->fit == VP_FIT_INSIDE ? "inside" : "center");
+    }
+    p->uniform_radius = (float)r;
+    p->shape = params->shape;
+    p->shape_param = J->sb;
+    if (J->poly || J->superball) {
+        p->has_orient = 1;
+        for (int i = 0; i < 4; i++) p->uniform_orient[i] = (float)best->q[i];
+    }
+    rep->radius = r;
+    rep->count = p->count;
+    rep->offsets_tried = st->offsets_tried;
+    rep->rotations_tried = st->rotations_tried;
+    memcpy(rep->offset, o, sizeof rep->offset);
+    memcpy(rep->rotation, best->q, sizeof rep->rotation);
+    rep->lattice_fraction = J->lb.fraction;
+    rep->particle_volume = vp_particles_volume(p);
+    *out = p;
+    return VP_OK;
+}
+
 vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_lattice_params *params,
                           vp_particles **out, vp_lattice_report *report) {
     double t0 = vp_seconds();
@@ -760,267 +1062,38 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
         vp_lattice_params_init(&def);
         params = &def;
     }
-    vp_lattice_basis lb;
-    const int superball = params->shape == VP_SHAPE_SUPERBALL;
-    const double sb = superball ? params->shape_param : 0.0;
-    if (superball && !(sb >= VP_SUPERBALL_P_MIN && sb <= VP_SUPERBALL_P_MAX))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "lattice: a superball's exponent must be in [%g, %g], not %g",
-                       VP_SUPERBALL_P_MIN, VP_SUPERBALL_P_MAX, sb);
-    if (vp_lattice_basis_get_param(params->shape, sb, params->lattice, &lb) != 0)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "--lattice %s is for spheres; a %s packs on its densest lattice",
-                       vp_lattice_name(params->lattice), vp_shape_name(params->shape));
-    const vp_polyhedron *poly = vp_shape_polyhedron(params->shape);
-    double unit_vol = vp_shape_unit_volume_param(params->shape, sb);
-    const double rin = poly ? poly->inradius : superball ? vp_superball_inradius(sb) : 1.0;
-    if (!(c->info.volume > 0))
-        return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "the container has no inside (volume 0)");
-    double r = params->radius;
-    int count_mode = 0;
-    if (r == 0.0 && params->count > 0) {
-        count_mode = 1;
-        r = cbrt(c->info.volume * lb.fraction / ((double)params->count * unit_vol));
-    } else if (!(r > 0) || !isfinite(r)) {
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "the radius must be a positive finite number (or give --count N > 0)");
-    }
-    double extent = HUGE_VAL;
-    for (int i = 0; i < 3; i++) {
-        double e = c->info.bmax[i] - c->info.bmin[i];
-        if (e < extent) extent = e;
-    }
-    if (!count_mode && params->fit == VP_FIT_INSIDE && 2 * r * rin > extent)
-        return vp_fail(ctx, VP_ERR_NO_FIT,
-                       "radius %g is too large: no particle fits in the container (its smallest "
-                       "extent is %g)", r, extent);
-    if (params->fit == VP_FIT_INSIDE && count_mode && r > c->info.interior_band)
-        r = c->info.interior_band;
-    if (params->fit == VP_FIT_INSIDE && r > c->info.interior_band * (1 + 1e-9))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "radius %g exceeds the container's interior band %g (distances deeper "
-                       "inside are unknown); reload the container for this radius", r,
-                       c->info.interior_band);
+    lattice_job J;
+    vp_result res = check_arguments(ctx, c, params, &J);
+    if (res == VP_OK) res = check_budget(&J);
+    if (res != VP_OK) return res;
 
-    /* memory and work guard, before anything large is allocated */
-    double est = estimate_count(c, &lb, unit_vol, r);
-    double bytes = est * 40.0 + est * 40.0; /* positions + output attributes */
-    uint64_t limit = vp_memory_limit(ctx);
-    if (bytes > (double)limit || est > 4e9) {
-        char a[32], b[32];
-        vp_format_bytes(bytes, a, sizeof a);
-        vp_format_bytes((double)limit, b, sizeof b);
-        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
-                       "about %.3g particles of radius %g need an estimated %s, more than the "
-                       "limit of %s (--max-memory)", est, r, a, b);
-    }
-    double m_unit = 0.0;
-    double amb = ambiguous_count(c, &lb, poly, sb, params->fit, r, &m_unit);
-    if (count_mode && (amb > VP_COUNT_AMB_WORK + 100.0 * (double)params->count ||
-                       amb * VP_AMB_BYTES > (double)limit))
-        return vp_fail(ctx, VP_ERR_NO_FIT,
-                       "lattice: --count %zu is out of reach in this container (smallest extent "
-                       "%g): at radius %g about %.3g lattice points lie near its walls, too many "
-                       "to search for %zu; give --radius, or use --method rsa",
-                       params->count, extent, r, amb, params->count);
-    if (amb * VP_AMB_BYTES > (double)limit) {
-        char a[32], b[32];
-        vp_format_bytes(amb * VP_AMB_BYTES, a, sizeof a);
-        vp_format_bytes((double)limit, b, sizeof b);
-        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
-                       "lattice: at radius %g about %.3g lattice points lie near the container's "
-                       "walls (all of them when it is only a few radii thick), and the placement "
-                       "search would need an estimated %s for them, more than the limit of %s "
-                       "(--max-memory)", r, amb, a, b);
-    }
-
-    search_cfg cfg;
-    memset(&cfg, 0, sizeof cfg);
-    cfg.c = c;
-    cfg.lb = &lb;
-    cfg.poly = poly;
-    cfg.sb = sb;
-    cfg.fit = params->fit;
-    cfg.seed = params->seed;
-    cfg.threads = vp_threads_for(ctx);
-    cfg.ctx = ctx;
-    /* the container's depth map (level sets only), freed below */
-    vp_depth_map dm;
-    memset(&dm, 0, sizeof dm);
-    if (c->depth_map && c->depth_map(c, &dm) == 0) cfg.dm = &dm;
-    cfg.refine = 1;
-    cfg.rotations = params->rotate ? (params->rotations > 0 ? params->rotations : 24) : 1;
-    if (params->offsets > 0) {
-        cfg.offsets = params->offsets;
-        cfg.refine = params->offsets > 1;
-    } else {
-        cfg.offsets = params->rotate ? 32 : 128;
-        cfg.budgeted = 1;
-    }
-
-    /* with --rotate, also the search that runs without it (search) */
-    search_cfg plain = cfg;
-    if (cfg.rotations > 1) {
-        plain.rotations = 1;
-        if (params->offsets == 0) plain.offsets = 128;
-        cfg.plain = &plain;
-    }
-
+    lattice_searches S;
+    plan_searches(&J, &S);
     vp_lattice_report rep;
     memset(&rep, 0, sizeof rep);
     placement best;
     search_stats st = {0, 0};
-    /* Count mode finds the radius with one offset per radius (the search
-     * moves the count by a fraction of a per cent), then searches once. */
-    search_cfg quick = cfg;
-    quick.offsets = 1;
-    quick.rotations = 1;
-    quick.refine = 0;
-    quick.budgeted = 0;
-    quick.plain = NULL;
-    /* the first count of a large packing only steps the radius (below):
-     * an estimate from every 4th slab is within a few in 10^4 */
-    if (count_mode && params->count >= 1e5 && (cfg.offsets > 1 || cfg.rotations > 1))
-        quick.slab_stride = 4;
-    vp_result res = search(count_mode ? &quick : &cfg, r, &best, &st);
-    if (res != VP_OK) goto fail;
-    rep.radius_iterations = 1;
-    /* count mode: the radius the guard stopped at, the smallest searched */
-    double wall_r = 0.0, wall_amb = 0.0, min_r = r;
-    if (count_mode) {
-        /* count ~ r^-3 locally: r <- r (count/N)^(1/3); keep the closest.
-         * First with the quick evaluation, then (the search adds particles,
-         * a lot of them in small packings) with the full search, which for
-         * large packings is already within 1 % on its first try. */
-        double target = (double)params->count;
-        /* phase 0's closest, when it was measured exactly (not the large
-         * packing's estimate): the full search maximises the count at each
-         * radius, so it may never come as close (one sphere asked in
-         * box:1,2,3: it finds 3 up to radius 0.5 and none beyond) */
-        int kept = 0;
-        double kept_r = r, kept_err = HUGE_VAL;
-        placement kept_p = best;
-        for (int phase = 0; phase < 2; phase++) {
-            const search_cfg *sc = phase ? &cfg : &quick;
-            if (phase) {
-                if (cfg.offsets <= 1 && cfg.rotations <= 1) break;
-                if (best.count == 0 && wall_r > 0.0) break; /* refused below */
-                res = search(&cfg, r, &best, &st);
-                if (res != VP_OK) goto fail;
-            }
-            double best_r = r, best_err = best.count ? fabs((double)best.count - target) : HUGE_VAL;
-            placement best_p = best;
-            if (phase == 0 && target >= 1e5 && (cfg.offsets > 1 || cfg.rotations > 1)) {
-                /* A large packing: the full search follows and counts
-                 * again, and the r^-3 model is then within a fraction of
-                 * a per cent, so step once without re-evaluating. */
-                double nr = radius_step(c, params->fit, r, best.count, target);
-                if (best_err > 0.001 * target && nr != r) {
-                    r = nr;
-                    rep.radius_iterations++;
-                }
-                quick.slab_stride = 1;
-                continue;
-            }
-            /* the largest radius seen whose count reached the target and
-             * the smallest whose count fell short: a bracket for the
-             * bisection below */
-            double lo_r = best.count >= target ? r : 0, hi_r = best.count < target ? r : HUGE_VAL;
-            /* full searches (phase 1) cost far more than quick ones */
-            int max_it = phase ? 16 : 48;
-            for (int it = 0; it < max_it && best_err > 0.01 * target; it++) {
-                double nr = radius_step(c, params->fit, r, best.count, target);
-                if (lo_r > 0 && hi_r < HUGE_VAL && (it >= 16 || !(nr > lo_r && nr < hi_r))) {
-                    /* Small counts move in steps of one or more, so the
-                     * r^-3 model overshoots or stalls around them (5 on
-                     * the peanut gave 4): bisect the bracket instead. */
-                    /* a jump in the count (a layer): no radius between */
-                    if (hi_r - lo_r <= 1e-6 * hi_r) break;
-                    nr = 0.5 * (lo_r + hi_r);
-                } else if (it >= 16) {
-                    break;
-                }
-                if (nr == r) break;
-                r = nr;
-                if (estimate_count(c, &lb, unit_vol, r) > 4e9) break;
-                double na = ambiguous_count(c, &lb, poly, sb, params->fit, r, &m_unit);
-                if (na > VP_COUNT_AMB_WORK + 100.0 * target || na * VP_AMB_BYTES > (double)limit) {
-                    wall_r = r;
-                    wall_amb = na;
-                    break;
-                }
-                res = search(sc, r, &best, &st);
-                if (res != VP_OK) goto fail;
-                rep.radius_iterations++;
-                if (r < min_r) min_r = r;
-                if (best.count >= target && r > lo_r) lo_r = r;
-                if (best.count < target && r < hi_r) hi_r = r;
-                /* no particle at all is never the answer */
-                double e = best.count ? fabs((double)best.count - target) : HUGE_VAL;
-                /* equally close: the count above the target (at least N) */
-                if (e < best_err || (e == best_err && best.count > best_p.count)) {
-                    best_err = e;
-                    best_r = r;
-                    best_p = best;
-                }
-            }
-            r = best_r;
-            best = best_p;
-            if (phase == 0) {
-                kept = 1;
-                kept_r = r;
-                kept_err = best_err;
-                kept_p = best;
-            } else if (kept && kept_err < best_err) {
-                r = kept_r;
-                best = kept_p;
-            }
-        }
+    count_stop stop = {0.0, 0.0, J.r};
+    res = search(J.count_mode ? &S.quick : &S.cfg, J.r, &best, &st);
+    if (res == VP_OK) {
+        rep.radius_iterations = 1;
+        if (J.count_mode) res = fit_count(&J, &S, &best, &st, &rep, &stop);
     }
-    if (count_mode && best.count == 0 && wall_r > 0.0) {
-        vp_depth_map_free(&dm);
-        return vp_fail(ctx, VP_ERR_NO_FIT,
-                       "lattice: --count %zu is out of reach in this container (smallest extent "
-                       "%g): no particle fits at radius %g or larger, and at radius %g about "
-                       "%.3g lattice points lie near its walls, too many to search for %zu; give "
-                       "--radius, or use --method rsa",
-                       params->count, extent, min_r, wall_r, wall_amb, params->count);
-    }
-    setup s;
-    setup_build(&s, c, &lb, poly, sb, params->fit, r, best.q);
-    s.dm = cfg.dm;
+    if (res == VP_OK && J.count_mode && best.count == 0 && stop.wall_r > 0.0)
+        res = vp_fail(ctx, VP_ERR_NO_FIT,
+                      "lattice: --count %zu is out of reach in this container (smallest extent "
+                      "%g): no particle fits at radius %g or larger, and at radius %g about "
+                      "%.3g lattice points lie near its walls, too many to search for %zu; give "
+                      "--radius, or use --method rsa",
+                      params->count, J.extent, stop.min_r, stop.wall_r, stop.wall_amb,
+                      params->count);
     vp_particles *p = NULL;
-    double o[3];
-    res = generate(ctx, &s, best.u, cfg.threads, &p, o);
-    if (res != VP_OK) goto fail;
-    vp_depth_map_free(&dm);
-    if (p->count == 0) {
-        vp_particles_destroy(p);
-        return vp_fail(ctx, VP_ERR_NO_FIT,
-                       "no particle of radius %g fits in the container with --fit %s", r,
-                       params->fit == VP_FIT_INSIDE ? "inside" : "center");
-    }
-    p->uniform_radius = (float)r;
-    p->shape = params->shape;
-    p->shape_param = sb;
-    if (poly || superball) {
-        p->has_orient = 1;
-        for (int i = 0; i < 4; i++) p->uniform_orient[i] = (float)best.q[i];
-    }
-    rep.radius = r;
-    rep.count = p->count;
-    rep.offsets_tried = st.offsets_tried;
-    rep.rotations_tried = st.rotations_tried;
-    memcpy(rep.offset, o, sizeof rep.offset);
-    memcpy(rep.rotation, best.q, sizeof rep.rotation);
-    rep.lattice_fraction = lb.fraction;
-    rep.particle_volume = vp_particles_volume(p);
+    if (res == VP_OK) res = place(&J, &S, &best, &st, &rep, &p);
+    vp_depth_map_free(&S.dm);
+    if (res != VP_OK) return res;
     rep.seconds = vp_seconds() - t0;
     vp_report_progress(ctx, 1.0, "done");
     if (report) *report = rep;
     *out = p;
     return VP_OK;
-fail:
-    vp_depth_map_free(&dm);
-    return res;
 }

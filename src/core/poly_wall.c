@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The wall test of a placed polyhedron, shared by the packers and the
  * checker so that both decide "inside" the same way; see shape.h and
- * docs/rsa.md ("Polyhedra"). */
+ * docs/rsa.md ("Solids", its item "Wall"). */
 #include "core/container.h"
 #include "core/geom.h"
 #include "core/shape.h"

@@ -23,6 +23,15 @@ static inline uint64_t vp_rng_next(uint64_t *s) {
 static inline double vp_rng_uniform(uint64_t *s) {
     return (double)(vp_rng_next(s) >> 11) * 0x1.0p-53;
 }
+/* splitmix64 of x alone, as a hash (vp_rng_next from the state x). */
+static inline uint64_t vp_rng_mix(uint64_t x) { return vp_rng_next(&x); }
+/* Uniform in [0, 1) from a hash chain: *s becomes vp_rng_mix(*s). The
+ * renderer's per-pixel streams (src/render/render.c), whose images depend
+ * on this very sequence. */
+static inline double vp_rng_chain_uniform(uint64_t *s) {
+    *s = vp_rng_mix(*s);
+    return (double)(*s >> 11) * 0x1.0p-53;
+}
 /* A seed for sub-stream k of seed (independent streams for chunks/passes). */
 static inline uint64_t vp_rng_stream(uint64_t seed, uint64_t k) {
     uint64_t s = seed ^ (0xD1B54A32D192ED03ull * (k + 1));
@@ -57,5 +66,14 @@ static inline void vp_rng_quat(uint64_t *s, double q[4]) {
     q[1] = y1;
     q[2] = x2 * t;
     q[3] = y2 * t;
+}
+/* Uniform random rotation by Shoemake's method (three uniforms, sin and
+ * cos): the lattice packer's rotation search (src/core/lattice_pack.c),
+ * whose orientations depend on this very sequence. */
+static inline void vp_rng_quat_shoemake(uint64_t *s, double q[4]) {
+    double u1 = vp_rng_uniform(s), u2 = vp_rng_uniform(s) * 2 * M_PI,
+           u3 = vp_rng_uniform(s) * 2 * M_PI;
+    double a = sqrt(1 - u1), b = sqrt(u1);
+    q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
 }
 #endif

@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The "top ball" of an active cell of the RSA packer (docs/rsa.md,
- * "Top ball"): one exclusion ball, among those gathered when the cell was
- * made, that holds much of it. It is stored in 3 bytes as its centre's
- * offset from the cell's centre, rounded per axis to a multiple of a unit
- * u (-127 to 127 units), so that a dart tests it without reading the
- * particle. A dart closer than lim to the rounded centre lies in the
- * ball itself: rounding moves the centre by at most (sqrt 3 / 2) u, taken
- * off the ball's radius together with a margin for the arithmetic. The
- * test only proves failures: a dart it does not settle gets the full
+ * "Sampling: active cells", its item "Top ball"): one exclusion ball, among
+ * those gathered when the cell was made, that holds much of it. It is stored
+ * in 3 bytes as its centre's offset from the cell's centre, rounded per axis
+ * to a multiple of a unit u (-127 to 127 units), so that a dart tests it
+ * without reading the particle. A dart closer than lim to the rounded centre
+ * lies in the ball itself: rounding moves the centre by at most (sqrt 3 / 2)
+ * u, taken off the ball's radius together with a margin for the arithmetic.
+ * The test only proves failures: a dart it does not settle gets the full
  * neighbour test, so the darts' outcomes are those of the full test.
  *
  * Internal to the packer (and its unit test); all functions are pure. */

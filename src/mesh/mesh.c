@@ -375,78 +375,110 @@ static vp_result weld_instances(const inst_list *L, const char *name, vp_weld *w
     return VP_OK;
 }
 
-/* The scene as one welded mesh: instances, counts, welding and
- * triangulation, then the shared finish (mesh_build.c). */
-static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out,
-                            char *err, size_t errlen)
+/* The scene's mesh instances (into L, whose array the caller frees) and
+ * their counts, checked: VP_ERR_FORMAT when there is no triangle,
+ * VP_ERR_OUT_OF_MEMORY when there are too many instances, vertices or
+ * triangles (named in err). */
+static vp_result gather_scene(const struct aiScene *sc, const char *name, inst_list *L,
+                              scene_counts *n, char *err, size_t errlen)
 {
-    vp_result res = VP_OK;
-    inst_list L = {0};
-    vp_weld w = {0};
-    scene_scratch x = {0};
-    uint32_t *tris = NULL;
-    *out = NULL;
-
     if (!sc || !sc->mMeshes || sc->mNumMeshes == 0) {
         set_err(err, errlen, "%s: %s", name, "no triangles in the file (no mesh in the scene)");
         return VP_ERR_FORMAT;
     }
-    collect_instances(sc, &L);
-    if (L.overflow) {
+    collect_instances(sc, L);
+    if (L->overflow) {
         set_err(err, errlen, "%s: %s", name, "too many mesh instances in the scene");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
+        return VP_ERR_OUT_OF_MEMORY;
     }
-    scene_counts n = count_scene(&L);
-    if (n.ntri_max == 0) {
+    *n = count_scene(L);
+    if (n->ntri_max == 0) {
         set_err(err, errlen, "%s: %s", name,
                 "no triangles in the file (no face with 3 or more corners)");
-        res = VP_ERR_FORMAT;
-        goto done;
+        return VP_ERR_FORMAT;
     }
-    if (n.nraw >= UINT32_MAX / 2 || n.ntri_max >= UINT32_MAX / 3) {
+    if (n->nraw >= UINT32_MAX / 2 || n->ntri_max >= UINT32_MAX / 3) {
         set_err(err, errlen, "%s: %s", name, "too many vertices or triangles");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
+        return VP_ERR_OUT_OF_MEMORY;
     }
-    x.raw = malloc(3 * n.maxverts * sizeof *x.raw);
-    x.wid = malloc(n.maxverts * sizeof *x.wid);
-    x.ptris = malloc(3 * (size_t)n.maxpoly * sizeof *x.ptris);
-    x.pxy = malloc(2 * (size_t)n.maxpoly * sizeof *x.pxy);
-    x.pring = malloc((size_t)n.maxpoly * sizeof *x.pring);
-    tris = malloc(3 * n.ntri_max * sizeof *tris);
-    if (!x.raw || !x.wid || !x.ptris || !x.pxy || !x.pring || !tris ||
-        vp_weld_init(&w, n.nraw) != 0) {
+    return VP_OK;
+}
+
+/* weld_instances' scratch, its triangle array (*tris) and the welder, for
+ * the counts n; VP_ERR_OUT_OF_MEMORY ("out of memory" in err) when any
+ * fails. The caller frees them (free_scratch, free, vp_weld_free) either
+ * way. */
+static vp_result alloc_scratch(const scene_counts *n, const char *name, scene_scratch *x,
+                               uint32_t **tris, vp_weld *w, char *err, size_t errlen)
+{
+    x->raw = malloc(3 * n->maxverts * sizeof *x->raw);
+    x->wid = malloc(n->maxverts * sizeof *x->wid);
+    x->ptris = malloc(3 * (size_t)n->maxpoly * sizeof *x->ptris);
+    x->pxy = malloc(2 * (size_t)n->maxpoly * sizeof *x->pxy);
+    x->pring = malloc((size_t)n->maxpoly * sizeof *x->pring);
+    *tris = malloc(3 * n->ntri_max * sizeof **tris);
+    if (!x->raw || !x->wid || !x->ptris || !x->pxy || !x->pring || !*tris ||
+        vp_weld_init(w, n->nraw) != 0) {
         set_err(err, errlen, "%s: %s", name, "out of memory");
-        res = VP_ERR_OUT_OF_MEMORY;
-        goto done;
+        return VP_ERR_OUT_OF_MEMORY;
     }
-    size_t ntri = 0, zero = 0;
-    res = weld_instances(&L, name, &w, &x, tris, &ntri, &zero, err, errlen);
-    if (res != VP_OK)
-        goto done;
+    return VP_OK;
+}
+
+static void free_scratch(scene_scratch *x)
+{
+    free(x->raw);
+    free(x->wid);
+    free(x->ptris);
+    free(x->pxy);
+    free(x->pring);
+}
+
+/* The ntri welded triangles as one mesh (the shared finish, mesh_build.c):
+ * VP_ERR_FORMAT when welding left none. Takes tris (*tris becomes NULL)
+ * once there is a triangle. */
+static vp_result finish_mesh(vp_weld *w, uint32_t **tris, size_t ntri, size_t nraw, size_t zero,
+                             const char *name, vp_mesh **out, char *err, size_t errlen)
+{
     if (ntri == 0) {
         set_err(err, errlen, "%s: %s", name,
                 "no triangles in the file (all degenerate after welding)");
-        res = VP_ERR_FORMAT;
-        goto done;
+        return VP_ERR_FORMAT;
     }
     {
-        uint32_t *shrunk = realloc(tris, 3 * ntri * sizeof *tris);
-        if (shrunk) tris = shrunk;
+        uint32_t *shrunk = realloc(*tris, 3 * ntri * sizeof **tris);
+        if (shrunk) *tris = shrunk;
     }
-    res = vp_mesh_finish(&w, tris, ntri, n.nraw, zero, out);
-    tris = NULL; /* owned by the mesh, or freed */
+    vp_result res = vp_mesh_finish(w, *tris, ntri, nraw, zero, out);
+    *tris = NULL; /* owned by the mesh, or freed */
     if (res != VP_OK)
         set_err(err, errlen, "%s: %s", name, "out of memory");
+    return res;
+}
 
-done:
+/* The scene as one welded mesh: its instances and counts, scratch,
+ * welding and triangulation, then the shared finish. */
+static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out,
+                            char *err, size_t errlen)
+{
+    inst_list L = {0};
+    scene_counts n = {0, 0, 0, 0};
+    vp_weld w = {0};
+    scene_scratch x = {0};
+    uint32_t *tris = NULL;
+    size_t ntri = 0, zero = 0;
+    *out = NULL;
+
+    vp_result res = gather_scene(sc, name, &L, &n, err, errlen);
+    if (res == VP_OK)
+        res = alloc_scratch(&n, name, &x, &tris, &w, err, errlen);
+    if (res == VP_OK)
+        res = weld_instances(&L, name, &w, &x, tris, &ntri, &zero, err, errlen);
+    if (res == VP_OK)
+        res = finish_mesh(&w, &tris, ntri, n.nraw, zero, name, out, err, errlen);
+
     free(L.v);
-    free(x.raw);
-    free(x.wid);
-    free(x.ptris);
-    free(x.pxy);
-    free(x.pring);
+    free_scratch(&x);
     free(tris);
     vp_weld_free(&w);
     return res;

@@ -234,3 +234,36 @@ void vp_subproc_kill(pid_t pid, int *status) {
     int st = vp_subproc_wait(pid);
     if (status) *status = st;
 }
+
+vp_subproc_end vp_subproc_run(double timeout, const vp_subproc_guard *guard,
+                              int (*child)(int fd, void *user),
+                              int (*answer)(int fd, vp_subproc_watch *w, void *user), void *user,
+                              int *status) {
+    *status = 0;
+    int fds[2];
+    if (vp_subproc_pipe(fds) != 0) return VP_SUBPROC_NO_PIPE;
+    pid_t pid = vp_subproc_fork(guard);
+    if (pid < 0) {
+        int e = errno;
+        close(fds[0]);
+        close(fds[1]);
+        errno = e;
+        return VP_SUBPROC_NO_FORK;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        _exit(child(fds[1], user));
+    }
+    close(fds[1]);
+    vp_subproc_watch watch;
+    vp_subproc_watch_start(&watch, pid, timeout);
+    watch.guard = guard;
+    int rr = answer(fds[0], &watch, user);
+    close(fds[0]);
+    if (rr == 3 || rr == 2) {
+        vp_subproc_kill(pid, status);
+        return rr == 3 ? VP_SUBPROC_CANCELLED : VP_SUBPROC_TIMEOUT;
+    }
+    *status = vp_subproc_wait(pid);
+    return rr == 0 ? VP_SUBPROC_ANSWERED : VP_SUBPROC_FAILED;
+}

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Small pieces for running third-party readers in a forked child (Assimp's
  * importer in src/mesh/isolate.c, OpenVDB's file reader in src/api/probe.c):
- * whole-buffer pipe I/O with a deadline. Internal. */
+ * the fork, whole-buffer pipe I/O with a deadline, and vp_subproc_run, which
+ * puts them together. Internal. */
 #ifndef VDBPACK_CORE_SUBPROC_H
 #define VDBPACK_CORE_SUBPROC_H
 
@@ -90,6 +91,29 @@ void vp_subproc_watch_start(vp_subproc_watch *w, pid_t pid, double timeout);
  * EOF first, -1 on error, 2 on timeout, 3 when the guard's cancel asked to
  * stop. */
 int vp_subproc_read_all(int fd, void *buf, size_t n, vp_subproc_watch *w);
+/* How vp_subproc_run ended. */
+typedef enum vp_subproc_end {
+    VP_SUBPROC_ANSWERED = 0, /* the answer was read; the child was waited for */
+    VP_SUBPROC_NO_PIPE,      /* pipe() failed (errno set); no child */
+    VP_SUBPROC_NO_FORK,      /* fork() failed (errno set); no child */
+    VP_SUBPROC_TIMEOUT,      /* the deadline passed: the child was killed */
+    VP_SUBPROC_CANCELLED,    /* the guard's cancel asked: the child was killed */
+    VP_SUBPROC_FAILED        /* the answer ended early or could not be read
+                              * (the child died, or wrote too little); the
+                              * child was waited for: its status says how */
+} vp_subproc_end;
+/* Runs a reader child end to end: a pipe (vp_subproc_pipe), a child
+ * (vp_subproc_fork(guard)) that runs child(fd, user), writing its answer
+ * to fd, and exits with child's return value; in the parent,
+ * answer(fd, w, user) reads that answer through vp_subproc_read_all under
+ * the watch w (timeout seconds, guard's cancel polled) and returns as
+ * vp_subproc_read_all does. Then the child is killed (timeout, cancel) or
+ * waited for; its wait status in *status (0 when there was no child). The
+ * pipe is closed in both processes. guard may be NULL. */
+vp_subproc_end vp_subproc_run(double timeout, const vp_subproc_guard *guard,
+                              int (*child)(int fd, void *user),
+                              int (*answer)(int fd, vp_subproc_watch *w, void *user), void *user,
+                              int *status);
 /* A deadline from the environment variable env (seconds, > 0) when set,
  * otherwise base + per_mb seconds per MB of file_bytes. */
 double vp_subproc_timeout(const char *env, double base, double per_mb, size_t file_bytes);

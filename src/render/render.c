@@ -16,6 +16,7 @@
 #include "core/context.h"
 #include "core/geom.h"
 #include "core/parallel.h"
+#include "core/rng.h"
 #include "core/mesh_shape.h"
 #include "core/sgrid.h"
 #include "core/shape.h"
@@ -468,18 +469,6 @@ static vp_result camera_setup(vp_context *ctx, const scene *S, const vp_render_p
     return VP_OK;
 }
 
-static uint64_t mix64(uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
-
-static double u01(uint64_t *s) {
-    *s = mix64(*s);
-    return (double)(*s >> 11) * (1.0 / 9007199254740992.0);
-}
-
 static void hsv(double hdeg, double s, double v, float out[3]) {
     double c = v * s, hp = fmod(hdeg, 360.0) / 60.0, x = c * (1 - fabs(fmod(hp, 2.0) - 1));
     double r = 0, g = 0, b = 0;
@@ -512,7 +501,7 @@ static void base_colour(const scene *S, vp_render_colour mode, uint32_t i, float
         unsigned z = S->contacts ? S->contacts[i] : 0;
         memcpy(out, zc[z < 4 ? 0 : z > 8 ? 5 : z - 3], 3 * sizeof(float));
     } else {
-        uint64_t x = mix64(i);
+        uint64_t x = vp_rng_mix(i);
         hsv((double)(x % 360), 0.55 + 0.3 * (double)((x >> 16) % 100) / 100.0, 0.85, out);
     }
 }
@@ -567,11 +556,11 @@ static void shade_pixel(const render_job *J, int px, int py) {
         vp_cross3(h.n, t1, t2);
         /* the same directions (in the frame of the normal) for every pixel
          * of a particle: smooth shading instead of per-pixel noise */
-        uint64_t s = mix64((uint64_t)h.idx * 0x2545F4914F6CDD1Dull + 1);
+        uint64_t s = vp_rng_mix((uint64_t)h.idx * 0x2545F4914F6CDD1Dull + 1);
         double open = 0;
         for (int j = 0; j < na; j++) {
             /* stratified in the azimuth so 4 rays cover the hemisphere */
-            double e1 = u01(&s), e2 = (j + u01(&s)) / na;
+            double e1 = vp_rng_chain_uniform(&s), e2 = (j + vp_rng_chain_uniform(&s)) / na;
             double sr = sqrt(e1), phi = 2 * M_PI * e2, z = sqrt(1 - e1);
             double dir[3];
             for (int k = 0; k < 3; k++)

@@ -49,7 +49,7 @@ double interior_band(const openvdb::FloatGrid &g)
 // The leak test: is any voxel on a face of bb (the active voxels' bounding
 // box) inside (< 0)? It walks the tiles and leaves that touch a face, never
 // a face voxel by voxel: a corrupt file's bounding box can span 2^32 voxels
-// a side (a fuzzed file hung the voxel loop this replaces, 2026-11-24).
+// a side (a fuzzed file hung a loop over the face voxels).
 // Voxels that no node holds read as the background, inside only if it is
 // negative.
 int leaks(const openvdb::FloatTree &t, const openvdb::CoordBBox &bb)
