@@ -65,13 +65,16 @@ static double mixed_gap(const chk *q, size_t i, size_t j, double *scale) {
     orient_of(p, i, qa);
     orient_of(p, j, qb);
     *scale = ri < rj ? ri : rj;
-    if (vp_kind_overlap_gap(ka, ri, qa, xi, kb, rj, qb, xj, G)) {
+    /* GJK undecided (within a hair of touching, smooth shapes): a contact */
+    int st = vp_kind_overlap_state(ka, ri, qa, xi, kb, rj, qb, xj, G);
+    if (st < 0) return 0.0;
+    if (st) {
         /* closer than the gap: by how much, from the common shrink (of
          * the shapes and the gap) that parts them */
         double lo = 0.0, hi = 1.0;
         for (int it = 0; it < 60; it++) {
             double m = 0.5 * (lo + hi);
-            if (vp_kind_overlap_gap(ka, ri * m, qa, xi, kb, rj * m, qb, xj, G * m)) hi = m;
+            if (vp_kind_overlap_state(ka, ri * m, qa, xi, kb, rj * m, qb, xj, G * m) > 0) hi = m;
             else lo = m;
         }
         return lo > 0 ? -d * (1.0 - lo) / lo : -(ri + rj);

@@ -42,6 +42,12 @@ int vp_kind_overlap(const vp_kind *ka, double sa, const double qa[4], const doub
 int vp_kind_overlap_gap(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
                         const vp_kind *kb, double sb, const double qb[4], const double tb[3],
                         double gap) {
+    return vp_kind_overlap_state(ka, sa, qa, ta, kb, sb, qb, tb, gap) != 0;
+}
+
+int vp_kind_overlap_state(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
+                          const vp_kind *kb, double sb, const double qb[4], const double tb[3],
+                          double gap) {
     double d2 = 0.0;
     for (int k = 0; k < 3; k++) d2 += (ta[k] - tb[k]) * (ta[k] - tb[k]);
     double e = sa + sb + gap, ein = ka->rin * sa + kb->rin * sb + gap;
@@ -53,7 +59,7 @@ int vp_kind_overlap_gap(const vp_kind *ka, double sa, const double qa[4], const 
         vp_convex_set(&A, ka->shape, ka->param, sa, qa, ta, ta);
         vp_convex_set(&B, kb->shape, kb->param, sb, qb, tb, ta);
         A.inflate = B.inflate = 0.5 * gap;
-        return vp_convex_overlap(&A, &B);
+        return vp_convex_overlap_state(&A, &B);
     }
     if (ka->mesh && kb->mesh)
         return vp_mesh_shape_overlap2(ka->mesh, sa, qa, ta, kb->mesh, sb, qb, tb, NULL);
@@ -64,12 +70,12 @@ int vp_kind_overlap_gap(const vp_kind *ka, double sa, const double qa[4], const 
         const double *tm = ka->mesh ? ta : tb, *tc = ka->mesh ? tb : ta;
         vp_convex C; /* posed about its own centre: small numbers */
         vp_convex_set(&C, kc->shape, kc->param, sc, qc, tc, tc);
-        return vp_mesh_shape_overlap_convex(km->mesh, sm, qm, tm, &C, tc, sc);
+        return vp_mesh_shape_overlap_convex(km->mesh, sm, qm, tm, &C, tc, sc);  /* (refuses undecided) */
     }
     if (ka->poly && ka->poly == kb->poly && !vp_shape_overlap_by_gjk(ka->shape))
         return vp_poly_separation(ka->poly, sa, qa, ta, kb->poly, sb, qb, tb) < 0;
     vp_convex A, B; /* both about a's centre */
     vp_convex_set(&A, ka->shape, ka->param, sa, qa, ta, ta);
     vp_convex_set(&B, kb->shape, kb->param, sb, qb, tb, ta);
-    return vp_convex_overlap(&A, &B);
+    return vp_convex_overlap_state(&A, &B);
 }

@@ -43,4 +43,11 @@ int vp_kind_overlap(const vp_kind *ka, double sa, const double qa[4], const doub
 int vp_kind_overlap_gap(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
                         const vp_kind *kb, double sb, const double qb[4], const double tb[3],
                         double gap);
+
+/* vp_kind_overlap_gap with GJK's undecided case apart (-1; 1 overlap, 0
+ * apart): for vdbpack check, which counts it as a contact, where the
+ * packers refuse it. */
+int vp_kind_overlap_state(const vp_kind *ka, double sa, const double qa[4], const double ta[3],
+                          const vp_kind *kb, double sb, const double qb[4], const double tb[3],
+                          double gap);
 #endif

@@ -684,8 +684,8 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (max_cells > 1 << 26) max_cells = 1 << 26;
     /* the cells' count is vol over the part of a cell inside the box: a
      * cell is one cell thick along an axis thinner than its side (a slab
-     * 1e-20 thick counted as vol / a0^3 made a grid of 1e16 cells); with
-     * no such axis this is vol / a0^3, as before */
+     * 1e-20 thick counted as vol / a0^3 would make a grid of 1e16 cells);
+     * with no such axis this is vol / a0^3 */
     for (;;) {
         double part = 1.0;
         for (int k = 0; k < 3; k++) part *= hi[k] - lo[k] < a0 ? hi[k] - lo[k] : a0;

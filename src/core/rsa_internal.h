@@ -140,7 +140,8 @@ typedef struct rsa {
                              side exceeds that extent, its cells are one cell
                              thick along k and darts are drawn in the cell cut
                              to the box there, so that every cell has the same
-                             sampled volume (docs/rsa.md, "Thin containers") */
+                             sampled volume (docs/rsa.md, "Sampling: active
+                             cells", thin containers) */
     int level, max_level;
     size_t cell_budget;   /* most active cells a split may make */
     int split_blocked;    /* a split would exceed the budget: plain darts */

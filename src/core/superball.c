@@ -235,6 +235,10 @@ static int do_simplex(double s[4][3], int *n, double d[3]) {
 }
 
 int vp_convex_overlap(const vp_convex *a, const vp_convex *b) {
+    return vp_convex_overlap_state(a, b) != 0;
+}
+
+int vp_convex_overlap_state(const vp_convex *a, const vp_convex *b) {
     double d[3], s[4][3], w[3];
     sub3(b->t, a->t, d);
     if (vp_dot3(d, d) == 0) return 1; /* one centre: both hold it */
@@ -251,7 +255,7 @@ int vp_convex_overlap(const vp_convex *a, const vp_convex *b) {
         memcpy(s[n++], w, sizeof w);
         if (do_simplex(s, &n, d)) return 1;
     }
-    return 1; /* undecided: refuse (see superball.h) */
+    return -1; /* undecided (see superball.h) */
 }
 
 int vp_superball_overlap(double p, double sa, const double qa[4], const double ta[3], double sb,

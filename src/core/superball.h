@@ -58,6 +58,11 @@ void vp_convex_set_triangle(vp_convex *c, const double a[3], const double b[3], 
  * separating direction was found. Undecided after the iteration limit: 1
  * (the packers then refuse the candidate; never an overlap let through). */
 int vp_convex_overlap(const vp_convex *a, const vp_convex *b);
+/* The same with the undecided case apart: 1 overlap (proven), 0 apart
+ * (proven), -1 undecided after the iteration limit, which happens only
+ * within a hair of touching (smooth shapes converge slowly there): the
+ * packers count it as an overlap, vdbpack check as a contact. */
+int vp_convex_overlap_state(const vp_convex *a, const vp_convex *b);
 
 /* The same for two shapes placed at (scale, q, t) each (unit superballs of
  * exponent p, or polyhedra of vp_shape_polyhedron). */
