@@ -358,6 +358,11 @@ static void build_chunk(void *user, size_t ci) {
     s->over[ci] = (uint8_t)over;
 }
 
+/* The list ends with NB_PAD entries of sphere 0, so that the pair forces
+ * may load four entries where fewer are left (the lanes past the end are
+ * switched off). */
+#define NB_PAD 4
+
 /* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory).
  * After the first build, in one pass (each chunk into a region sized from
  * its last list, the regions then closed up); in two (count, then write)
@@ -379,6 +384,7 @@ static int build_list(jam *s, int threads) {
             s->est[c] = s->tot[c] + s->tot[c] / 32 + 24;
             want += s->est[c];
         }
+        want += NB_PAD;
         if (want > s->nb_cap || want < s->nb_cap / 2) {
             uint32_t *nb = realloc(s->nb, want * sizeof *nb);
             if (!nb) return -1;
@@ -394,6 +400,7 @@ static int build_list(jam *s, int threads) {
                 if (at != s->reg[c]) memmove(s->nb + at, s->nb + s->reg[c], s->tot[c] * sizeof *s->nb);
                 at += s->tot[c];
             }
+            memset(s->nb + at, 0, NB_PAD * sizeof *s->nb);
             for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
             return 0;
         }
@@ -403,7 +410,7 @@ static int build_list(jam *s, int threads) {
     vp_parallel_for(threads, s->nchunk, build_chunk, &b);
     for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
     size_t total = s->off[s->n];
-    if (total > s->nb_cap || total < s->nb_cap / 2) {
+    if (total + NB_PAD > s->nb_cap || total < s->nb_cap / 2) {
         /* grown with a sixteenth to spare; shrunk after the quench's wide skin */
         size_t cap = total + total / 16 + 64;
         uint32_t *nb = realloc(s->nb, cap * sizeof *nb);
@@ -413,6 +420,7 @@ static int build_list(jam *s, int threads) {
     }
     b.fill = 1;
     vp_parallel_for(threads, s->nchunk, build_chunk, &b);
+    memset(s->nb + total, 0, NB_PAD * sizeof *s->nb);
     s->have_tot = 1;
     return 0;
 }
@@ -484,10 +492,11 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
     for (uint32_t k = k0; k < e; k += 4) {
         int live = (int)(e - k < 4 ? e - k : 4);
         /* four spheres' (x, y, z, r0), transposed to x, y, z, r0 of four */
-        __m256d p0 = _mm256_loadu_pd(s->x + 4 * (size_t)s->nb[k]);
-        __m256d p1 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 1 ? s->nb[k + 1] : i));
-        __m256d p2 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 2 ? s->nb[k + 2] : i));
-        __m256d p3 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 3 ? s->nb[k + 3] : i));
+        /* past the list's end: the next spheres' entries, or NB_PAD */
+        __m256d p0 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k]);
+        __m256d p1 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k + 1]);
+        __m256d p2 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k + 2]);
+        __m256d p3 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k + 3]);
         __m256d t0 = _mm256_unpacklo_pd(p0, p1), t1 = _mm256_unpackhi_pd(p0, p1);
         __m256d t2 = _mm256_unpacklo_pd(p2, p3), t3 = _mm256_unpackhi_pd(p2, p3);
         __m256d xj0 = _mm256_permute2f128_pd(t0, t2, 0x20);
@@ -1082,7 +1091,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     s.n = n;
     s.nchunk = n / 512 < 1 ? 1 : n / 512 > NCHUNK ? NCHUNK : n / 512;
     s.chunk = (n + s.nchunk - 1) / s.nchunk;
-    s.x = malloc(4 * n * sizeof *s.x);
+    /* 32 bytes a sphere, each in one cache line */
+    s.x = aligned_alloc(64, (4 * n * sizeof *s.x + 63) / 64 * 64);
     s.v = calloc(3 * n, sizeof *s.v);
     s.f = calloc(3 * n, sizeof *s.f);
     s.xr = malloc(3 * n * sizeof *s.xr);
