@@ -255,10 +255,29 @@ static uint32_t scan_c(const jam *s, size_t i, double ri, double reach_extra, ui
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
 #define VP_JAM_AVX2 1
+/* The byte shuffle that packs the lanes of a 4-bit mask to the front, in order. */
+static const uint8_t compress_lut[16][16] = {
+    {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {4, 5, 6, 7, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 0, 1, 2, 3},
+    {8, 9, 10, 11, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 8, 9, 10, 11, 0, 1, 2, 3, 0, 1, 2, 3},
+    {4, 5, 6, 7, 8, 9, 10, 11, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 0, 1, 2, 3},
+    {12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3},
+    {4, 5, 6, 7, 12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 12, 13, 14, 15, 0, 1, 2, 3},
+    {8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3},
+    {4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
+
 __attribute__((target("avx2"))) static uint32_t scan_avx2(const jam *s, size_t i, double ri,
                                                          double reach_extra, uint32_t a,
                                                          uint32_t e, uint32_t *out,
-                                                         uint32_t count) {
+                                                         uint32_t count, int room4) {
     const double *xi = s->x + 4 * i;
     const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
                   xi2 = _mm256_set1_pd(xi[2]), vri = _mm256_set1_pd(ri),
@@ -283,6 +302,14 @@ __attribute__((target("avx2"))) static uint32_t scan_avx2(const jam *s, size_t i
             _mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LT_OQ));
         if (i >= j && i < (size_t)j + 4) mb &= ~(1u << (i - j));
         if (!out) {
+            count += (uint32_t)__builtin_popcount(mb);
+            continue;
+        }
+        if (room4) {
+            /* all four lanes stored, the hits first: no branch per hit */
+            __m128i idx = _mm_add_epi32(_mm_set1_epi32((int)j), _mm_setr_epi32(0, 1, 2, 3));
+            idx = _mm_shuffle_epi8(idx, _mm_loadu_si128((const __m128i *)compress_lut[mb]));
+            _mm_storeu_si128((__m128i *)(void *)(out + count), idx);
             count += (uint32_t)__builtin_popcount(mb);
             continue;
         }
@@ -332,12 +359,14 @@ static void build_chunk(void *user, size_t ci) {
                 uint32_t a = s->cstart[row + (size_t)x0], e = s->cstart[row + (size_t)x1 + 1];
                 uint32_t *out = b->fill == 1 ? s->nb + k_out : NULL;
                 if (region && !over) {
-                    if (used + count + (e - a) > room) over = 1;
+                    /* room for the row's candidates and three more: its
+                     * four-wide stores may write three entries past the hits */
+                    if (used + count + (e - a) + 3 > room) over = 1;
                     else out = region + used;
                 }
 #ifdef VP_JAM_AVX2
                 if (s->avx2) {
-                    count = scan_avx2(s, i, ri, reach_extra, a, e, out, count);
+                    count = scan_avx2(s, i, ri, reach_extra, a, e, out, count, region != NULL);
                     continue;
                 }
 #endif
