@@ -24,9 +24,10 @@
  * neighbour list is rebuilt), the list holds every pair within
  * r_i + r_j + skin and is rebuilt only when a sphere has moved (or the
  * radii grown) by half the skin; the wall is sampled only for spheres the
- * list build found within reach of it; the pair forces are summed four
- * list entries at a time (AVX2 where the processor has it, the same
- * arithmetic without).
+ * list build found within reach of it; the pair forces, and the list
+ * build's distance tests, take four list entries (candidates) at a time
+ * (AVX2 where the processor has it, the same arithmetic without); a build
+ * after the first is one pass over the cells, not a count and a fill.
  * Determinism: work is split into a fixed number of chunks whatever the
  * thread count, each sphere's force is summed over its own list in a fixed
  * order, and the chunks' sums are added in chunk order. */
@@ -99,6 +100,10 @@ typedef struct jam {
     size_t nb_cap;
     uint8_t *near_wall; /* n: within reach of the wall until the next build */
     double scale, skin, r0max, dmean;
+    /* the chunks' last list sizes, and the one-pass build's regions */
+    uint32_t tot[NCHUNK], reg[NCHUNK], est[NCHUNK];
+    uint8_t over[NCHUNK];
+    int have_tot; /* tot holds the last build's */
     /* the cell grid of list builds */
     double lo[3], cell;
     int dims[3];
@@ -227,9 +232,99 @@ static int sort_by_cell(jam *s) {
     return 0;
 }
 
+/* The spheres j of [a, e) (j != i) within ri + r_j + reach_extra of
+ * sphere i, appended to out (NULL: only counted) from out[count]; returns
+ * the new count. The AVX2 form tests four at a time with the same
+ * arithmetic, so the lists are the same. */
+static uint32_t scan_c(const jam *s, size_t i, double ri, double reach_extra, uint32_t a,
+                       uint32_t e, uint32_t *out, uint32_t count) {
+    const double *xi = s->x + 4 * i;
+    for (uint32_t j = a; j < e; j++) {
+        if (j == i) continue;
+        const double *xj = s->x + 4 * (size_t)j;
+        double reach = ri + s->scale * R0(s, j) + reach_extra;
+        double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+        if (dx * dx + dy * dy + dz * dz < reach * reach) {
+            if (out) out[count] = j;
+            count++;
+        }
+    }
+    return count;
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define VP_JAM_AVX2 1
+/* The byte shuffle that packs the lanes of a 4-bit mask to the front, in order. */
+static const uint8_t compress_lut[16][16] = {
+    {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {4, 5, 6, 7, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 0, 1, 2, 3},
+    {8, 9, 10, 11, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 8, 9, 10, 11, 0, 1, 2, 3, 0, 1, 2, 3},
+    {4, 5, 6, 7, 8, 9, 10, 11, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 0, 1, 2, 3},
+    {12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3},
+    {4, 5, 6, 7, 12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 12, 13, 14, 15, 0, 1, 2, 3},
+    {8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 0, 1, 2, 3},
+    {0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3},
+    {4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
+
+__attribute__((target("avx2"))) static uint32_t scan_avx2(const jam *s, size_t i, double ri,
+                                                         double reach_extra, uint32_t a,
+                                                         uint32_t e, uint32_t *out,
+                                                         uint32_t count, int room4) {
+    const double *xi = s->x + 4 * i;
+    const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
+                  xi2 = _mm256_set1_pd(xi[2]), vri = _mm256_set1_pd(ri),
+                  vsc = _mm256_set1_pd(s->scale), vex = _mm256_set1_pd(reach_extra);
+    uint32_t j = a;
+    for (; j + 4 <= e; j += 4) {
+        const double *p = s->x + 4 * (size_t)j;
+        __m256d p0 = _mm256_loadu_pd(p), p1 = _mm256_loadu_pd(p + 4), p2 = _mm256_loadu_pd(p + 8),
+                p3 = _mm256_loadu_pd(p + 12);
+        __m256d t0 = _mm256_unpacklo_pd(p0, p1), t1 = _mm256_unpackhi_pd(p0, p1);
+        __m256d t2 = _mm256_unpacklo_pd(p2, p3), t3 = _mm256_unpackhi_pd(p2, p3);
+        __m256d xj0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+        __m256d xj1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+        __m256d xj2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+        __m256d r0j = _mm256_permute2f128_pd(t1, t3, 0x31);
+        __m256d reach = _mm256_add_pd(_mm256_add_pd(vri, _mm256_mul_pd(vsc, r0j)), vex);
+        __m256d dx = _mm256_sub_pd(xi0, xj0), dy = _mm256_sub_pd(xi1, xj1),
+                dz = _mm256_sub_pd(xi2, xj2);
+        __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                   _mm256_mul_pd(dz, dz));
+        unsigned mb = (unsigned)_mm256_movemask_pd(
+            _mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LT_OQ));
+        if (i >= j && i < (size_t)j + 4) mb &= ~(1u << (i - j));
+        if (!out) {
+            count += (uint32_t)__builtin_popcount(mb);
+            continue;
+        }
+        if (room4) {
+            /* all four lanes stored, the hits first: no branch per hit */
+            __m128i idx = _mm_add_epi32(_mm_set1_epi32((int)j), _mm_setr_epi32(0, 1, 2, 3));
+            idx = _mm_shuffle_epi8(idx, _mm_loadu_si128((const __m128i *)compress_lut[mb]));
+            _mm_storeu_si128((__m128i *)(void *)(out + count), idx);
+            count += (uint32_t)__builtin_popcount(mb);
+            continue;
+        }
+        while (mb) {
+            out[count++] = j + (uint32_t)__builtin_ctz(mb);
+            mb &= mb - 1;
+        }
+    }
+    return scan_c(s, i, ri, reach_extra, j, e, out, count);
+}
+#endif
+
 typedef struct build_pass {
     jam *s;
-    int fill; /* 0: count into off[i + 1]; 1: write nb */
+    int fill; /* 0: count into off[i + 1]; 1: write nb; 2: both, into the chunk's region */
 } build_pass;
 
 static void build_chunk(void *user, size_t ci) {
@@ -238,6 +333,12 @@ static void build_chunk(void *user, size_t ci) {
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
     const double reach_extra = s->skin + s->gap;
+    /* fill 2: the chunk's lists go to nb[reg[ci] ..), est[ci] entries at
+     * most (past them it only counts, and the build is done again in two
+     * passes); off[i + 1] is the count */
+    uint32_t *region = b->fill == 2 ? s->nb + s->reg[ci] : NULL;
+    uint32_t room = b->fill == 2 ? s->est[ci] : 0, used = 0;
+    int over = 0;
     for (size_t i = lo; i < hi; i++) {
         const double *xi = s->x + 4 * i;
         double ri = s->scale * R0(s, i);
@@ -256,19 +357,24 @@ static void build_chunk(void *user, size_t ci) {
                 size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
                 int x0 = c[0] > 0 ? c[0] - 1 : 0, x1 = c[0] + 1 < s->dims[0] ? c[0] + 1 : c[0];
                 uint32_t a = s->cstart[row + (size_t)x0], e = s->cstart[row + (size_t)x1 + 1];
-                for (uint32_t j = a; j < e; j++) {
-                    if (j == i) continue;
-                    const double *xj = s->x + 4 * (size_t)j;
-                    double reach = ri + s->scale * R0(s, j) + reach_extra;
-                    double dx = xi[0] - xj[0], dy2 = xi[1] - xj[1], dz2 = xi[2] - xj[2];
-                    if (dx * dx + dy2 * dy2 + dz2 * dz2 < reach * reach) {
-                        if (b->fill) s->nb[k_out + count] = j;
-                        count++;
-                    }
+                uint32_t *out = b->fill == 1 ? s->nb + k_out : NULL;
+                if (region && !over) {
+                    /* room for the row's candidates and three more: its
+                     * four-wide stores may write three entries past the hits */
+                    if (used + count + (e - a) + 3 > room) over = 1;
+                    else out = region + used;
                 }
+#ifdef VP_JAM_AVX2
+                if (s->avx2) {
+                    count = scan_avx2(s, i, ri, reach_extra, a, e, out, count, region != NULL);
+                    continue;
+                }
+#endif
+                count = scan_c(s, i, ri, reach_extra, a, e, out, count);
             }
         }
-        if (!b->fill) {
+        used += count;
+        if (b->fill != 1) {
             s->off[i + 1] = count;
             /* the wall: within reach until a sphere has moved skin / 2 */
             double d = vp_container_distance(s->c, xi);
@@ -277,20 +383,63 @@ static void build_chunk(void *user, size_t ci) {
             for (int k = 0; k < 3; k++) s->xr[3 * i + k] = (float)xi[k];
         }
     }
+    s->tot[ci] = used;
+    s->over[ci] = (uint8_t)over;
 }
 
-/* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory). */
+/* The list ends with NB_PAD entries of sphere 0, so that the pair forces
+ * may load four entries where fewer are left (the lanes past the end are
+ * switched off). */
+#define NB_PAD 4
+
+/* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory).
+ * After the first build, in one pass (each chunk into a region sized from
+ * its last list, the regions then closed up); in two (count, then write)
+ * the first time and when a chunk's list outgrew its region. Either way
+ * the same list. */
 static int build_list(jam *s, int threads) {
     if (2 * s->scale * s->r0max + s->skin > s->cell && grid_init(s, 2 * s->scale * s->r0max + s->skin) != 0)
         return -1;
     s->s_build = s->scale;
     if (sort_by_cell(s) != 0) return -1;
-    build_pass b = {s, 0};
+    build_pass b = {s, 2};
     s->off[0] = 0;
+    if (s->have_tot) {
+        /* one pass: each chunk writes its lists to a region the size of
+         * its last list and a thirty-second more, then the regions close up */
+        size_t want = 0;
+        for (size_t c = 0; c < s->nchunk; c++) {
+            s->reg[c] = (uint32_t)want;
+            s->est[c] = s->tot[c] + s->tot[c] / 32 + 24;
+            want += s->est[c];
+        }
+        want += NB_PAD;
+        if (want > s->nb_cap || want < s->nb_cap / 2) {
+            uint32_t *nb = realloc(s->nb, want * sizeof *nb);
+            if (!nb) return -1;
+            s->nb = nb;
+            s->nb_cap = want;
+        }
+        vp_parallel_for(threads, s->nchunk, build_chunk, &b);
+        int over = 0;
+        for (size_t c = 0; c < s->nchunk; c++) over |= s->over[c];
+        if (!over) {
+            size_t at = 0;
+            for (size_t c = 0; c < s->nchunk; c++) {
+                if (at != s->reg[c]) memmove(s->nb + at, s->nb + s->reg[c], s->tot[c] * sizeof *s->nb);
+                at += s->tot[c];
+            }
+            memset(s->nb + at, 0, NB_PAD * sizeof *s->nb);
+            for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
+            return 0;
+        }
+    }
+    /* two passes: count, then write */
+    b.fill = 0;
     vp_parallel_for(threads, s->nchunk, build_chunk, &b);
     for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
     size_t total = s->off[s->n];
-    if (total > s->nb_cap || total < s->nb_cap / 2) {
+    if (total + NB_PAD > s->nb_cap || total < s->nb_cap / 2) {
         /* grown with a sixteenth to spare; shrunk after the quench's wide skin */
         size_t cap = total + total / 16 + 64;
         uint32_t *nb = realloc(s->nb, cap * sizeof *nb);
@@ -300,6 +449,8 @@ static int build_list(jam *s, int threads) {
     }
     b.fill = 1;
     vp_parallel_for(threads, s->nchunk, build_chunk, &b);
+    memset(s->nb + total, 0, NB_PAD * sizeof *s->nb);
+    s->have_tot = 1;
     return 0;
 }
 
@@ -353,9 +504,7 @@ static void pair_forces_c(const jam *s, size_t i, pair_sum *o) {
     lanes_add(l, o);
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#define VP_JAM_AVX2 1
+#ifdef VP_JAM_AVX2
 __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_t i,
                                                             pair_sum *o) {
     const double *xi = s->x + 4 * i;
@@ -372,10 +521,11 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
     for (uint32_t k = k0; k < e; k += 4) {
         int live = (int)(e - k < 4 ? e - k : 4);
         /* four spheres' (x, y, z, r0), transposed to x, y, z, r0 of four */
-        __m256d p0 = _mm256_loadu_pd(s->x + 4 * (size_t)s->nb[k]);
-        __m256d p1 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 1 ? s->nb[k + 1] : i));
-        __m256d p2 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 2 ? s->nb[k + 2] : i));
-        __m256d p3 = _mm256_loadu_pd(s->x + 4 * (size_t)(live > 3 ? s->nb[k + 3] : i));
+        /* past the list's end: the next spheres' entries, or NB_PAD */
+        __m256d p0 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k]);
+        __m256d p1 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k + 1]);
+        __m256d p2 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k + 2]);
+        __m256d p3 = _mm256_load_pd(s->x + 4 * (size_t)s->nb[k + 3]);
         __m256d t0 = _mm256_unpacklo_pd(p0, p1), t1 = _mm256_unpackhi_pd(p0, p1);
         __m256d t2 = _mm256_unpacklo_pd(p2, p3), t3 = _mm256_unpackhi_pd(p2, p3);
         __m256d xj0 = _mm256_permute2f128_pd(t0, t2, 0x20);
@@ -970,7 +1120,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     s.n = n;
     s.nchunk = n / 512 < 1 ? 1 : n / 512 > NCHUNK ? NCHUNK : n / 512;
     s.chunk = (n + s.nchunk - 1) / s.nchunk;
-    s.x = malloc(4 * n * sizeof *s.x);
+    /* 32 bytes a sphere, each in one cache line */
+    s.x = aligned_alloc(64, (4 * n * sizeof *s.x + 63) / 64 * 64);
     s.v = calloc(3 * n, sizeof *s.v);
     s.f = calloc(3 * n, sizeof *s.f);
     s.xr = malloc(3 * n * sizeof *s.xr);
