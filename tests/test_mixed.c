@@ -269,15 +269,37 @@ static vp_result pack_ternary(vp_context *ctx, const vp_container *c, const vp_m
     return vp_pack_rsa(ctx, c, &rp, &o->p, &o->rep);
 }
 
-static void test_ternary_pairwise(void) {
+/* The ternary set of seed 7 in the unit box, with what it needs (owned;
+ * ternary_free). */
+typedef struct ternary {
     vp_context *ctx;
-    ASSERT_OK(ctx, vp_context_create(&ctx));
-    vp_mesh_shape *cub = cuboid_mesh(ctx);
+    vp_mesh_shape *cub;
     vp_container *c;
-    ASSERT_OK(ctx, vp_container_create_box(ctx, (double[3]){-0.5, -0.5, -0.5}, (double[3]){0.5, 0.5, 0.5}, &c));
     mix_out o;
-    ASSERT_OK(ctx, pack_ternary(ctx, c, cub, 7, &o));
-    const vp_particles *p = o.p;
+} ternary;
+
+static void ternary_make(ternary *t) {
+    ASSERT_OK(t->ctx, vp_context_create(&t->ctx));
+    t->cub = cuboid_mesh(t->ctx);
+    ASSERT_OK(t->ctx, vp_container_create_box(t->ctx, (double[3]){-0.5, -0.5, -0.5},
+                                              (double[3]){0.5, 0.5, 0.5}, &t->c));
+    ASSERT_OK(t->ctx, pack_ternary(t->ctx, t->c, t->cub, 7, &t->o));
+}
+
+static void ternary_free(ternary *t) {
+    vp_particles_destroy(t->o.p);
+    vp_container_destroy(t->c);
+    vp_mesh_shape_destroy(t->cub);
+    vp_context_destroy(t->ctx);
+}
+
+static void test_ternary_pairwise(void) {
+    ternary tx;
+    ternary_make(&tx);
+    vp_context *ctx = tx.ctx;
+    vp_mesh_shape *cub = tx.cub;
+    vp_container *c = tx.c;
+    const vp_particles *p = tx.o.p;
     ASSERT_EQ_INT(p->shape, VP_SHAPE_MIXED);
     ASSERT_EQ_INT(p->shape_count, 3);
     ASSERT_EQ_INT(p->shapes[0].shape, VP_SHAPE_CUBE);
@@ -356,22 +378,16 @@ static void test_ternary_pairwise(void) {
                         : 4.0 / 3.0 * M_PI * r * r * r;
     }
     ASSERT_NEAR(vp_particles_volume(p), vol, 1e-9 * vol);
-    vp_particles_destroy(o.p);
-    vp_container_destroy(c);
-    vp_mesh_shape_destroy(cub);
-    vp_context_destroy(ctx);
+    ternary_free(&tx);
 }
 
 /* check finds an overlap planted in a mixed set (the test above can fail). */
 static void test_check_sees_cross_overlap(void) {
-    vp_context *ctx;
-    ASSERT_OK(ctx, vp_context_create(&ctx));
-    vp_mesh_shape *cub = cuboid_mesh(ctx);
-    vp_container *c;
-    ASSERT_OK(ctx, vp_container_create_box(ctx, (double[3]){-0.5, -0.5, -0.5}, (double[3]){0.5, 0.5, 0.5}, &c));
-    mix_out o;
-    ASSERT_OK(ctx, pack_ternary(ctx, c, cub, 7, &o));
-    vp_particles *p = o.p;
+    ternary tx;
+    ternary_make(&tx);
+    vp_context *ctx = tx.ctx;
+    vp_container *c = tx.c;
+    vp_particles *p = tx.o.p;
     /* a sphere moved onto a cube's face, 1 % of its radius inside it */
     size_t cube = 0, sphere = 0;
     while (p->shape_index[cube] != 0) cube++;
@@ -415,10 +431,7 @@ static void test_check_sees_cross_overlap(void) {
     ASSERT_OK(ctx, vp_check_particles(ctx, c, two, NULL, &cr));
     ASSERT_EQ_INT(cr.overlapping_pairs, 0);
     vp_particles_destroy(two);
-    vp_particles_destroy(p);
-    vp_container_destroy(c);
-    vp_mesh_shape_destroy(cub);
-    vp_context_destroy(ctx);
+    ternary_free(&tx);
 }
 
 static int same_particles(const vp_particles *a, const vp_particles *b) {
