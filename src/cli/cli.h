@@ -14,6 +14,8 @@ int vp_cli_die(int status, const char *fmt, ...)
     ;
 
 /* `vdbpack pack ...` (argv as given to main). */
+/* `vdbpack pack --help` (pack_options.c) */
+extern const char *VP_PACK_HELP;
 int vp_cli_pack(int argc, char **argv);
 /* Only the option checks of `vdbpack pack` (and an analytic container's
  * spec): 0, or the exit status after printing one line. For the option

@@ -632,14 +632,35 @@ static int cmp_desc(const void *a, const void *b) {
 
 /* --- one pass ------------------------------------------------------------------------ */
 
-static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, uint64_t seed,
-                          vp_rsa_pass_report *rep, double prog0, double prog1) {
-    double t0 = vp_seconds();
-    memset(rep, 0, sizeof *rep);
-    rep->requested = ps->maximal ? 0 : ps->count;
-    rep->grow_mean = 1.0;
-    /* radii are stored as float: bound the float values drawn */
-    const double g = s->gap_half; /* every radius drawn is packed inflated by it */
+/* A pass in progress: what its steps share. */
+typedef struct pass_run {
+    const vp_rsa_pass *ps;
+    unsigned index;
+    vp_rsa_pass_report *rep;
+    double g;               /* gap_half: every radius drawn is packed inflated by it */
+    uint64_t rad_state;     /* the pass's stream of radii */
+    double cur_r;           /* the next particle's radius (kept until placed) */
+    size_t retries;         /* failed tries in a row that end the pass */
+    size_t want;            /* particles asked for (SIZE_MAX: maximal) */
+    int fill_dist;          /* maximal with a distribution of radii (spheres) */
+    int filling;            /* ... and now placing a radius cut at the room */
+    size_t fill_after;      /* failed tries in a row before filling */
+    size_t first;           /* the pass's first particle */
+    size_t consecutive;     /* failed tries in a row */
+    size_t level_darts;     /* darts thrown at this level */
+    size_t renumbered;      /* particles when last put in grid order */
+    uint64_t dart_index;    /* the next batch's first dart */
+    uint32_t *hits;         /* cells that received a particle in this batch */
+    size_t hit_cap, nhits;
+    size_t ok, used;        /* the batch's placed particles and darts used */
+    int done;
+} pass_run;
+
+/* The pass's radius range (radii are stored as float: the float values
+ * drawn are bounded) and its random streams. */
+static void pass_radii(rsa *s, pass_run *pr, uint64_t seed) {
+    const vp_rsa_pass *ps = pr->ps;
+    const double g = pr->g;
     double dmin = vp_size_dist_min(&ps->radius) + g, dmax = vp_size_dist_max(&ps->radius) + g;
     float fmin = (float)dmin, fmax = (float)dmax;
     if (ps->radius.kind != VP_SIZE_CONSTANT || g > 0) { /* a constant is drawn as (float) itself */
@@ -650,8 +671,16 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     s->rmax = fmax;
     /* every radius drawn is a float in [fmin, fmax]: equal bounds, one radius */
     s->pretest = s->solid && fmin == fmax;
-    s->stream_seed = vp_rng_stream(seed, 2 * (uint64_t)pass_index);
-    uint64_t rad_state = vp_rng_stream(seed, 2 * (uint64_t)pass_index + 1);
+    s->stream_seed = vp_rng_stream(seed, 2 * (uint64_t)pr->index);
+    pr->rad_state = vp_rng_stream(seed, 2 * (uint64_t)pr->index + 1);
+}
+
+/* The level-0 cells over the box of admissible centres. *no_room: that box
+ * is empty (then an error for the first pass, a maximal stop for later
+ * ones). */
+static vp_result pass_level0(rsa *s, pass_run *pr, int *no_room) {
+    const vp_rsa_pass *ps = pr->ps;
+    *no_room = 0;
     const vp_container_info *ci = &s->c->info;
     double shrink = s->fit == VP_FIT_INSIDE ? s->rmin + s->wall_off : s->wall_off;
     double lo[3], hi[3], vol = 1.0;
@@ -665,12 +694,11 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
             return vp_fail(s->ctx, VP_ERR_NO_FIT,
                            "rsa: pass %u: radius %.9g (as a float)%s leaves no room for a "
                            "centre in the container (its inside is %.6g x %.6g x %.6g)",
-                           pass_index + 1, s->rmin - g,
+                           pr->index + 1, s->rmin - pr->g,
                            s->margin > 0 ? " with the margin from the wall" : "",
                            ci->bmax[0] - ci->bmin[0], ci->bmax[1] - ci->bmin[1],
                            ci->bmax[2] - ci->bmin[2]);
-        rep->stop = VP_RSA_STOP_MAXIMAL;
-        rep->seconds = vp_seconds() - t0;
+        *no_room = 1;
         return VP_OK;
     }
     /* level-0 cells: fine enough that a placed sphere covers its cell after
@@ -713,15 +741,18 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
     if (s->max_level > 30 - bits) s->max_level = 30 - bits;
     s->coord_bits = bits;
     s->level = 0;
-    vp_result r = vp_rsa_split_cells(s, 1, dims);
-    if (r != VP_OK) return r;
+    return vp_rsa_split_cells(s, 1, dims);
+}
 
-    size_t retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
+/* When the pass ends, and its first radius. */
+static void pass_limits(rsa *s, pass_run *pr) {
+    const vp_rsa_pass *ps = pr->ps;
+    pr->retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
     /* maximal: ends when no cell is left. For solids the cells are dropped
      * only by inspheres (a necessary condition), so they seldom run out:
      * the retry limit ends those passes. */
-    if (ps->maximal && !s->solid) retries = SIZE_MAX;
-    size_t want = ps->maximal ? SIZE_MAX : ps->count;
+    if (ps->maximal && !s->solid) pr->retries = SIZE_MAX;
+    pr->want = ps->maximal ? SIZE_MAX : ps->count;
     /* maximal with a distribution of radii (spheres): first as a count
      * pass (each radius drawn kept until placed) until `retries` tries in a
      * row fail; then (filling) a dart that has room for the smallest
@@ -729,226 +760,299 @@ static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, ui
      * not fit, of a radius drawn from the distribution cut at the room
      * there; so the pass ends, as with one radius, when no cell can hold a
      * centre of the smallest radius (docs/rsa.md) */
-    int fill_dist = ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT && !s->solid;
-    int filling = 0;
-    size_t fill_after = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
-    size_t first = s->p->count, consecutive = 0;
-    double cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
-    uint64_t dart_index = 0;
-    size_t level_darts = 0; /* darts thrown at this level */
-    size_t renumbered = first;
-    rep->stop = VP_RSA_STOP_MAXIMAL;
-    uint32_t *hits = NULL; /* cells that received a sphere in this batch */
-    size_t hit_cap = 0, nhits = 0;
-    int done = 0;
-    while (!done) {
-        if (s->ncells == 0) {
-            rep->stop = VP_RSA_STOP_MAXIMAL;
-            break;
-        }
-        size_t B = s->ncells / 4;
-        if (B < 256) B = 256;
-        if (B > 8192) B = 8192;
-        if (B > s->ndarts) {
-            dart *d = realloc(s->darts, B * sizeof *d);
-            if (!d) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
-            s->darts = d;
-        }
-        s->ndarts = B;
-        s->n0 = s->p->count;
-        s->dart_base = dart_index;
-        dart_index += B;
-        dart_job j = {s, (B + 63) / 64};
-        vp_parallel_for(s->threads, 64, make_darts, &j);
-        if (B > hit_cap) {
-            uint32_t *h = realloc(hits, B * sizeof *hits);
-            if (!h) { r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory"); break; }
-            hits = h;
-            hit_cap = B;
-        }
-        nhits = 0;
-        size_t ok = 0, used = 0;
-        double a = cell_side(s, s->level), diag = a * sqrt(3.0);
-        for (size_t k = 0; k < B; k++) {
-            dart *t = &s->darts[k];
-            used++;
-            rep->tries++;
-            int good;
-            if (s->pretest) { /* a solid, cur_r == rmin; earlier particles done */
-                rep->pretested++;
-                good = t->clr != 0.0 &&
-                       (s->p->count == s->n0 ||
-                        solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
-            } else if (s->solid) {
-                good = dart_solid_free(s, t, cur_r);
-                /* solids, maximal, sizes: the next try draws anew (the
-                 * retry limit ends the pass) */
-                if (!good && ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT)
-                    cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
-            } else if (filling) {
-                double room = dart_room(s, t);
-                if ((good = room >= s->rmin) && cur_r > room) {
-                    cur_r = (double)(float)(vp_size_dist_sample_below(&ps->radius, room - g,
-                                                                        &rad_state) + g);
-                    if (cur_r > room) cur_r = (double)nextafterf((float)cur_r, 0.0f);
-                    if (cur_r < s->rmin) cur_r = s->rmin;
+    pr->fill_dist = ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT && !s->solid;
+    pr->filling = 0;
+    pr->fill_after = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
+    pr->first = pr->renumbered = s->p->count;
+    pr->consecutive = 0;
+    pr->cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &pr->rad_state) + pr->g);
+    pr->rep->stop = VP_RSA_STOP_MAXIMAL;
+}
+
+/* A batch of darts (a quarter of the cells, 256 to 8192), made and
+ * pre-tested in parallel. */
+static vp_result batch_darts(rsa *s, pass_run *pr, size_t *batch) {
+    size_t B = s->ncells / 4;
+    if (B < 256) B = 256;
+    if (B > 8192) B = 8192;
+    if (B > s->ndarts) {
+        dart *d = realloc(s->darts, B * sizeof *d);
+        if (!d) return vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+        s->darts = d;
+    }
+    s->ndarts = B;
+    s->n0 = s->p->count;
+    s->dart_base = pr->dart_index;
+    pr->dart_index += B;
+    dart_job j = {s, (B + 63) / 64};
+    vp_parallel_for(s->threads, 64, make_darts, &j);
+    if (B > pr->hit_cap) {
+        uint32_t *h = realloc(pr->hits, B * sizeof *pr->hits);
+        if (!h) return vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+        pr->hits = h;
+        pr->hit_cap = B;
+    }
+    *batch = B;
+    return VP_OK;
+}
+
+/* The batch's darts in order, on one thread: each tested against what
+ * the parallel pre-test left out, placed when it passes; the pass ends at
+ * its count or its retry limit (pr->done). */
+static vp_result batch_accept(rsa *s, pass_run *pr, size_t B) {
+    const vp_rsa_pass *ps = pr->ps;
+    vp_rsa_pass_report *rep = pr->rep;
+    const double g = pr->g;
+    /* the loop's state in locals, written back at the end */
+    double cur_r = pr->cur_r;
+    uint64_t rad_state = pr->rad_state;
+    size_t consecutive = pr->consecutive, nhits = 0, ok = 0, used = 0;
+    int filling = pr->filling, done = 0;
+    uint32_t *hits = pr->hits;
+    vp_result r = VP_OK;
+    double a = cell_side(s, s->level), diag = a * sqrt(3.0);
+    for (size_t k = 0; k < B; k++) {
+        dart *t = &s->darts[k];
+        used++;
+        rep->tries++;
+        int good;
+        if (s->pretest) { /* a solid, cur_r == rmin; earlier particles done */
+            rep->pretested++;
+            good = t->clr != 0.0 &&
+                   (s->p->count == s->n0 ||
+                    solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
+        } else if (s->solid) {
+            good = dart_solid_free(s, t, cur_r);
+            /* solids, maximal, sizes: the next try draws anew (the
+             * retry limit ends the pass) */
+            if (!good && ps->maximal && ps->radius.kind != VP_SIZE_CONSTANT)
+                cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
+        } else if (filling) {
+            double room = dart_room(s, t);
+            if ((good = room >= s->rmin) && cur_r > room) {
+                cur_r = (double)(float)(vp_size_dist_sample_below(&ps->radius, room - g,
+                                                                    &rad_state) + g);
+                if (cur_r > room) cur_r = (double)nextafterf((float)cur_r, 0.0f);
+                if (cur_r < s->rmin) cur_r = s->rmin;
+            }
+        } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
+                   s->p->count > s->n0) { /* spheres placed in this batch */
+            size_t nnew = s->p->count - s->n0;
+            if (nnew <= 24) {
+                for (size_t i = s->n0; i < s->p->count && good; i++) {
+                    double c[3];
+                    ppos(s, i, c);
+                    double dx = t->p[0] - c[0], dy = t->p[1] - c[1], dz = t->p[2] - c[2];
+                    double e = cur_r + s->p->radii[i];
+                    if (dx * dx + dy * dy + dz * dz < e * e) good = 0;
                 }
-            } else if ((good = t->d <= thr_ok(s, cur_r) && t->clr >= cur_r) &&
-                       s->p->count > s->n0) { /* spheres placed in this batch */
-                size_t nnew = s->p->count - s->n0;
-                if (nnew <= 24) {
-                    for (size_t i = s->n0; i < s->p->count && good; i++) {
-                        double c[3];
-                        ppos(s, i, c);
-                        double dx = t->p[0] - c[0], dy = t->p[1] - c[1], dz = t->p[2] - c[2];
-                        double e = cur_r + s->p->radii[i];
-                        if (dx * dx + dy * dy + dz * dz < e * e) good = 0;
-                    }
-                } else {
-                    good = clearance_since(s, t->p, cur_r, s->n0) >= cur_r;
-                }
-            }
-            if (!good) {
-                if (fill_dist && !filling && consecutive + 1 >= fill_after) {
-                    filling = 1;
-                    consecutive = 0;
-                    continue;
-                }
-                if (++consecutive >= retries) {
-                    rep->stop = VP_RSA_STOP_RETRIES;
-                    done = 1;
-                    break;
-                }
-                continue;
-            }
-            consecutive = 0;
-            if (s->p->count >= UINT32_MAX - 1) {
-                r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: more than 2^32 particles");
-                done = 1;
-                break;
-            }
-            if (reserve(s, s->p->count + 1) != 0) {
-                r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory at %zu particles",
-                            s->p->count);
-                done = 1;
-                break;
-            }
-            size_t i = s->p->count++;
-            store_pos(s, i, t->p); /* t->p is rounded: the same value back */
-            s->p->radii[i] = (float)cur_r;
-            if (cur_r > s->max_r) s->max_r = cur_r;
-            if (cur_r < s->min_r) s->min_r = cur_r;
-            if (i == 0 && !s->mixed) s->uni_r = (float)cur_r; /* (mixed: rin differs) */
-            else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
-            s->p->groups[i] = (uint16_t)pass_index;
-            if (s->mixed) s->p->shape_index[i] = (uint8_t)s->cur;
-            if (s->solid) {
-                const double *q = dart_quat(s, t);
-                for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)q[m];
-            }
-            if (vp_sgrid_insert(&s->g, (uint32_t)i, t->p, cur_r) != 0) {
-                r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
-                done = 1;
-                break;
-            }
-            ok++;
-            if (s->level == 0 && s->top[0].u > 0) { /* a level-0 cell's first sphere: its top ball */
-                cell c = cell_load(s->cells, s->csize, t->cell);
-                if (c.top == VP_TOP_NONE) {
-                    double m[3], off[3];
-                    cell_center(s, &c, 0, m);
-                    for (int a3 = 0; a3 < 3; a3++) off[a3] = t->p[a3] - m[a3];
-                    c.top = vp_top_encode(&s->top[0], off);
-                    cell_store(s->cells, s->csize, t->cell, c);
-                }
-            }
-            /* the new sphere covers its cell for every later candidate */
-            if (diag <= s->rin * (s->rmin + cur_r)) hits[nhits++] = t->cell;
-            rep->placed++;
-            if (rep->placed >= want) {
-                rep->stop = VP_RSA_STOP_COUNT;
-                done = 1;
-                break;
-            }
-            cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
-        }
-        /* drop the cells that received a sphere, in dart order (swap with
-         * the last cell that is not itself being dropped) */
-        if (nhits) {
-            /* sort hits descending so swaps never move a hit cell; a cell
-             * hit twice is dropped once */
-            qsort(hits, nhits, sizeof *hits, cmp_desc);
-            size_t u = 1;
-            for (size_t h = 1; h < nhits; h++)
-                if (hits[h] != hits[u - 1]) hits[u++] = hits[h];
-            nhits = u;
-            for (size_t h = 0; h < nhits; h++) {
-                --s->ncells;
-                if (hits[h] != s->ncells)
-                    memcpy(s->cells + hits[h] * s->csize, s->cells + s->ncells * s->csize,
-                           s->csize);
+            } else {
+                good = clearance_since(s, t->p, cur_r, s->n0) >= cur_r;
             }
         }
-        if (r != VP_OK || done) break;
-        if (!vp_report_progress_counts(
-                s->ctx,
-                prog0 + (prog1 - prog0) * (ps->maximal ? (double)s->level / s->max_level
-                                                       : (double)rep->placed / (double)want),
-                "rsa", rep->placed, ps->maximal ? 0 : want)) {
-            r = vp_fail(s->ctx, VP_ERR_CANCELLED, "rsa: cancelled");
-            break;
-        }
-        level_darts += used;
-        if (!s->split_blocked && (double)ok < SPLIT_RATE * (double)used &&
-            level_darts >= (s->solid         ? SPLIT_DARTS_SOLID
-                            : s->level == 0 ? SPLIT_DARTS_LEVEL0
-                                            : SPLIT_DARTS) * s->ncells) {
-            level_darts = 0;
-            if (s->level >= s->max_level && fill_dist && !filling) {
-                filling = 1; /* only the smallest radius ends the pass */
+        if (!good) {
+            if (pr->fill_dist && !filling && consecutive + 1 >= pr->fill_after) {
+                filling = 1;
                 consecutive = 0;
                 continue;
             }
-            if (s->level >= s->max_level) {
-                /* cells this small are below the numbers' resolution: what
-                 * is left cannot take a centre that differs from a placed one */
-                rep->stop = VP_RSA_STOP_MAXIMAL;
+            if (++consecutive >= pr->retries) {
+                rep->stop = VP_RSA_STOP_RETRIES;
+                done = 1;
                 break;
             }
-            /* the particles in grid order before the split reads them all,
-             * once a tenth of the pass's particles are new since the last
-             * time; a pass that grows keeps placement order, its order
-             * of growth */
-            if (!ps->grow && 10 * (s->p->count - renumbered) >= s->p->count - first) {
-                renumbered = s->p->count;
-                renumber(s, first);
-            }
-            r = vp_rsa_split_cells(s, 0, NULL);
-            if (r != VP_OK) break;
-            rep->budget_hit |= s->split_blocked;
-            if (s->split_blocked && ps->maximal) /* honest fallback: retries end it */
-                retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
+            continue;
         }
+        consecutive = 0;
+        if (s->p->count >= UINT32_MAX - 1) {
+            r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: more than 2^32 particles");
+            done = 1;
+            break;
+        }
+        if (reserve(s, s->p->count + 1) != 0) {
+            r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory at %zu particles",
+                        s->p->count);
+            done = 1;
+            break;
+        }
+        size_t i = s->p->count++;
+        store_pos(s, i, t->p); /* t->p is rounded: the same value back */
+        s->p->radii[i] = (float)cur_r;
+        if (cur_r > s->max_r) s->max_r = cur_r;
+        if (cur_r < s->min_r) s->min_r = cur_r;
+        if (i == 0 && !s->mixed) s->uni_r = (float)cur_r; /* (mixed: rin differs) */
+        else if (s->uni_r != (double)(float)cur_r) s->uni_r = 0.0;
+        s->p->groups[i] = (uint16_t)pr->index;
+        if (s->mixed) s->p->shape_index[i] = (uint8_t)s->cur;
+        if (s->solid) {
+            const double *q = dart_quat(s, t);
+            for (int m = 0; m < 4; m++) s->p->orients[4 * i + m] = (float)q[m];
+        }
+        if (vp_sgrid_insert(&s->g, (uint32_t)i, t->p, cur_r) != 0) {
+            r = vp_fail(s->ctx, VP_ERR_OUT_OF_MEMORY, "rsa: out of memory");
+            done = 1;
+            break;
+        }
+        ok++;
+        if (s->level == 0 && s->top[0].u > 0) { /* a level-0 cell's first sphere: its top ball */
+            cell c = cell_load(s->cells, s->csize, t->cell);
+            if (c.top == VP_TOP_NONE) {
+                double m[3], off[3];
+                cell_center(s, &c, 0, m);
+                for (int a3 = 0; a3 < 3; a3++) off[a3] = t->p[a3] - m[a3];
+                c.top = vp_top_encode(&s->top[0], off);
+                cell_store(s->cells, s->csize, t->cell, c);
+            }
+        }
+        /* the new sphere covers its cell for every later candidate */
+        if (diag <= s->rin * (s->rmin + cur_r)) hits[nhits++] = t->cell;
+        rep->placed++;
+        if (rep->placed >= pr->want) {
+            rep->stop = VP_RSA_STOP_COUNT;
+            done = 1;
+            break;
+        }
+        cur_r = (double)(float)(vp_size_dist_sample(&ps->radius, &rad_state) + g);
     }
-    free(hits);
+    pr->cur_r = cur_r;
+    pr->rad_state = rad_state;
+    pr->consecutive = consecutive;
+    pr->filling = filling;
+    pr->nhits = nhits;
+    pr->ok = ok;
+    pr->used = used;
+    pr->done = done;
+    return r;
+}
+
+/* Drops the cells that received a particle, in dart order (swap with the
+ * last cell that is not itself being dropped). */
+static void drop_hit_cells(rsa *s, pass_run *pr) {
+    uint32_t *hits = pr->hits;
+    size_t nhits = pr->nhits;
+    if (!nhits) return;
+    /* sort hits descending so swaps never move a hit cell; a cell hit
+     * twice is dropped once */
+    qsort(hits, nhits, sizeof *hits, cmp_desc);
+    size_t u = 1;
+    for (size_t h = 1; h < nhits; h++)
+        if (hits[h] != hits[u - 1]) hits[u++] = hits[h];
+    nhits = u;
+    for (size_t h = 0; h < nhits; h++) {
+        --s->ncells;
+        if (hits[h] != s->ncells)
+            memcpy(s->cells + hits[h] * s->csize, s->cells + s->ncells * s->csize, s->csize);
+    }
+}
+
+/* When too few darts of the level succeed: one level finer (after putting
+ * the particles in grid order), or the end of the pass where the cells
+ * reach the numbers' resolution. */
+static vp_result pass_refine(rsa *s, pass_run *pr) {
+    const vp_rsa_pass *ps = pr->ps;
+    pr->level_darts += pr->used;
+    if (s->split_blocked || !((double)pr->ok < SPLIT_RATE * (double)pr->used) ||
+        !(pr->level_darts >= (s->solid         ? SPLIT_DARTS_SOLID
+                              : s->level == 0 ? SPLIT_DARTS_LEVEL0
+                                              : SPLIT_DARTS) * s->ncells))
+        return VP_OK;
+    pr->level_darts = 0;
+    if (s->level >= s->max_level && pr->fill_dist && !pr->filling) {
+        pr->filling = 1; /* only the smallest radius ends the pass */
+        pr->consecutive = 0;
+        return VP_OK;
+    }
+    if (s->level >= s->max_level) {
+        /* cells this small are below the numbers' resolution: what is left
+         * cannot take a centre that differs from a placed one */
+        pr->rep->stop = VP_RSA_STOP_MAXIMAL;
+        pr->done = 1;
+        return VP_OK;
+    }
+    /* the particles in grid order before the split reads them all, once a
+     * tenth of the pass's particles are new since the last time; a pass
+     * that grows keeps placement order, its order of growth */
+    if (!ps->grow && 10 * (s->p->count - pr->renumbered) >= s->p->count - pr->first) {
+        pr->renumbered = s->p->count;
+        renumber(s, pr->first);
+    }
+    vp_result r = vp_rsa_split_cells(s, 0, NULL);
     if (r != VP_OK) return r;
-    if (rep->placed == 0 && first == 0 && s->p->count == 0 && rep->stop == VP_RSA_STOP_RETRIES)
+    pr->rep->budget_hit |= s->split_blocked;
+    if (s->split_blocked && ps->maximal) /* honest fallback: retries end it */
+        pr->retries = ps->retries > 0 ? (size_t)ps->retries : VP_RSA_DEFAULT_RETRIES;
+    return VP_OK;
+}
+
+/* A pass that placed nothing in an empty packing is an error (said with
+ * its reason); a pass with grow grows its particles. */
+static vp_result pass_end(rsa *s, pass_run *pr) {
+    const vp_rsa_pass *ps = pr->ps;
+    vp_rsa_pass_report *rep = pr->rep;
+    if (rep->placed == 0 && pr->first == 0 && s->p->count == 0 && rep->stop == VP_RSA_STOP_RETRIES)
         return vp_fail(s->ctx, VP_ERR_NO_FIT,
                        "rsa: pass %u: nothing placed: %zu tries in a row failed for the first "
                        "particle, of radius %.6g (drawn from the pass's sizes, it keeps its radius "
                        "until placed); raise retries=K or narrow the sizes",
-                       pass_index + 1, retries, cur_r);
-    if (rep->placed == 0 && first == 0 && s->p->count == 0)
+                       pr->index + 1, pr->retries, pr->cur_r);
+    if (rep->placed == 0 && pr->first == 0 && s->p->count == 0)
         return vp_fail(s->ctx, VP_ERR_NO_FIT,
                        "rsa: pass %u: no sphere of radius %.6g fits in the container (%s%s)",
-                       pass_index + 1, s->rmin - g,
+                       pr->index + 1, s->rmin - pr->g,
                        s->fit == VP_FIT_INSIDE ? "every sphere wholly inside" : "centres inside",
                        s->margin > 0 ? ", the margin from the wall: is it larger than the "
                                        "container's inradius?"
                                      : "");
-    if (ps->grow && s->p->count > first) grow_pass(s, first, s->p->count, &rep->grow_mean);
-    rep->seconds = vp_seconds() - t0;
+    if (ps->grow && s->p->count > pr->first) grow_pass(s, pr->first, s->p->count, &rep->grow_mean);
     return VP_OK;
+}
+
+static vp_result run_pass(rsa *s, const vp_rsa_pass *ps, unsigned pass_index, uint64_t seed,
+                          vp_rsa_pass_report *rep, double prog0, double prog1) {
+    double t0 = vp_seconds();
+    memset(rep, 0, sizeof *rep);
+    rep->requested = ps->maximal ? 0 : ps->count;
+    rep->grow_mean = 1.0;
+    pass_run pr;
+    memset(&pr, 0, sizeof pr);
+    pr.ps = ps;
+    pr.index = pass_index;
+    pr.rep = rep;
+    pr.g = s->gap_half;
+    pass_radii(s, &pr, seed);
+    int no_room;
+    vp_result r = pass_level0(s, &pr, &no_room);
+    if (r != VP_OK) return r;
+    if (no_room) {
+        rep->stop = VP_RSA_STOP_MAXIMAL;
+        rep->seconds = vp_seconds() - t0;
+        return VP_OK;
+    }
+    pass_limits(s, &pr);
+    while (!pr.done) {
+        if (s->ncells == 0) {
+            rep->stop = VP_RSA_STOP_MAXIMAL;
+            break;
+        }
+        size_t B = 0;
+        if ((r = batch_darts(s, &pr, &B)) != VP_OK) break;
+        r = batch_accept(s, &pr, B);
+        drop_hit_cells(s, &pr);
+        if (r != VP_OK || pr.done) break;
+        if (!vp_report_progress_counts(
+                s->ctx,
+                prog0 + (prog1 - prog0) * (ps->maximal ? (double)s->level / s->max_level
+                                                       : (double)rep->placed / (double)pr.want),
+                "rsa", rep->placed, ps->maximal ? 0 : pr.want)) {
+            r = vp_fail(s->ctx, VP_ERR_CANCELLED, "rsa: cancelled");
+            break;
+        }
+        if ((r = pass_refine(s, &pr)) != VP_OK) break;
+    }
+    free(pr.hits);
+    if (r == VP_OK) r = pass_end(s, &pr);
+    rep->seconds = vp_seconds() - t0;
+    return r;
 }
 
 /* The pass's shape as the tests use it (kinds[k]). */
