@@ -8,6 +8,7 @@
 #include "core/container.h"
 #include "core/context.h"
 #include "core/geom.h"
+#include "core/mesh_topo.h"
 #include "core/shape.h"
 #include "core/superball.h"
 
@@ -572,20 +573,6 @@ double vp_mesh_shape_wall_distance(const vp_container *c, const vp_mesh_shape *m
 
 /* --- loading ------------------------------------------------------------------------- */
 
-static uint32_t uf_find(uint32_t *parent, uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static int cmp_edge(const void *a, const void *b) {
-    const uint32_t *x = a, *y = b;
-    if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
-    return (x[1] > y[1]) - (x[1] < y[1]);
-}
-
 void vp_mesh_shape_destroy(vp_mesh_shape *s) {
     if (!s) return;
     free(s->verts);
@@ -690,8 +677,10 @@ vp_result vp_mesh_shape_create(vp_context *ctx, const char *name, double *verts,
     /* unique edges, components */
     uint32_t *parent = malloc((s->nverts ? s->nverts : 1) * sizeof *parent);
     s->edges = malloc(6 * s->ntris * sizeof *s->edges);
-    if (!parent || !s->edges || build_bvh(s) != 0) {
+    vp_edge_side *sides = vp_edge_sides(s->tris, s->ntris); /* (core/mesh_topo.h) */
+    if (!parent || !s->edges || !sides || build_bvh(s) != 0) {
         free(parent);
+        free(sides);
         vp_mesh_shape_destroy(s);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "shape %s: out of memory", bn);
     }
@@ -699,21 +688,18 @@ vp_result vp_mesh_shape_create(vp_context *ctx, const char *name, double *verts,
     for (size_t t = 0; t < s->ntris; t++)
         for (int i = 0; i < 3; i++) {
             uint32_t a = s->tris[3 * t + i], b = s->tris[3 * t + (i + 1) % 3];
-            s->edges[2 * (3 * t + i)] = a < b ? a : b;
-            s->edges[2 * (3 * t + i) + 1] = a < b ? b : a;
-            uint32_t ra = uf_find(parent, a), rb = uf_find(parent, b);
+            uint32_t ra = vp_uf_find(parent, a), rb = vp_uf_find(parent, b);
             if (ra != rb) parent[ra] = rb;
         }
-    qsort(s->edges, 3 * s->ntris, 2 * sizeof *s->edges, cmp_edge);
+    /* each edge once, in the order of its vertices (smaller first) */
     size_t ne = 0;
     for (size_t e = 0; e < 3 * s->ntris; e++) {
-        if (ne && s->edges[2 * (ne - 1)] == s->edges[2 * e] &&
-            s->edges[2 * (ne - 1) + 1] == s->edges[2 * e + 1])
-            continue;
-        s->edges[2 * ne] = s->edges[2 * e];
-        s->edges[2 * ne + 1] = s->edges[2 * e + 1];
+        if (e && sides[e].key == sides[e - 1].key) continue;
+        s->edges[2 * ne] = (uint32_t)(sides[e].key >> 32);
+        s->edges[2 * ne + 1] = (uint32_t)sides[e].key;
         ne++;
     }
+    free(sides);
     s->nedges = ne;
     for (size_t e = 0; e < ne; e++) {
         double d[3];
@@ -726,7 +712,7 @@ vp_result vp_mesh_shape_create(vp_context *ctx, const char *name, double *verts,
     s->reps = malloc(64 * sizeof *s->reps);
     size_t cap = 64;
     for (size_t v = 0; v < s->nverts && s->reps; v++) {
-        if (uf_find(parent, (uint32_t)v) != v) continue;
+        if (vp_uf_find(parent, (uint32_t)v) != v) continue;
         if (nrep == cap) {
             uint32_t *n = realloc(s->reps, 2 * cap * sizeof *n);
             if (!n) break;
