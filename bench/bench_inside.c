@@ -86,7 +86,8 @@ int main(int argc, char **argv) {
         }
         if (!cut) memcpy(holes.t + 3 * holes.nt++, m->tris + 3 * t, 3 * sizeof *m->tris);
         s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        if ((s >> 33) % 100 != 0) memcpy(sieve.t + 3 * sieve.nt++, m->tris + 3 * t, 3 * sizeof *m->tris);
+        if ((s >> 33) % 100 != 0)
+            memcpy(sieve.t + 3 * sieve.nt++, m->tris + 3 * t, 3 * sizeof *m->tris);
     }
     vp_context *ctx = NULL;
     vp_context_create(&ctx);
@@ -109,8 +110,8 @@ int main(int argc, char **argv) {
             cases[c].volume = v;
             cases[c].route = route;
         }
-    printf("bench_inside: %s, %zu triangles, default voxel size (1/200 of the diagonal %g)\n",
-           path, m->ntris, diag);
+    printf("bench_inside: %s, %zu triangles, default voxel size (1/200 of the diagonal %g)\n", path,
+           m->ntris, diag);
     for (int c = 0; c < 4; c++)
         printf("  %-28s %6zu triangles  %-7s  best %6.3f s  x%.2f  volume %.6g\n", cases[c].name,
                cases[c].a->nt, cases[c].route, cases[c].best, cases[c].best / cases[0].best,

@@ -11,9 +11,9 @@
 
 typedef struct jam_case {
     const char *name;
-    int kind;        /* 0 unit box, 1 sphere of radius R r (R = param), 2 mesh file */
+    int kind; /* 0 unit box, 1 sphere of radius R r (R = param), 2 mesh file */
     double param;
-    const char *dist;/* --radius text */
+    const char *dist; /* --radius text */
     size_t count;
     const char *file;
     int threads;
@@ -79,8 +79,8 @@ int main(int argc, char **argv) {
         {"box10k", 0, 0, "1", 10000, NULL, 0},
         {"box100k", 0, 0, "1", 100000, NULL, 0},
         {"box1M", 0, 0, "1", 1000000, NULL, 0},
-        {"sphere20r", 1, 20, "1", 5120, NULL, 0},   /* 0.64 * 20^3 */
-        {"sphere40r", 1, 40, "1", 40960, NULL, 0},  /* 0.64 * 40^3 */
+        {"sphere20r", 1, 20, "1", 5120, NULL, 0},  /* 0.64 * 20^3 */
+        {"sphere40r", 1, 40, "1", 40960, NULL, 0}, /* 0.64 * 40^3 */
         {"lognormal100k", 0, 0, "lognormal:1:0.2", 100000, NULL, 0},
         {"binary100k", 0, 0, "list:1:1:1:1:1:1:1:1:2", 100000, NULL, 0},
         {"peanut30k", 2, 0, "1", 30000, VP_SOURCE_DIR "/vdb_samples/peanut.obj", 0},

@@ -16,7 +16,9 @@
 
 static uint64_t rng = 0x2545F4914F6CDD1Dull;
 static double urand(void) {
-    rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
     return (double)(rng >> 11) * (1.0 / 9007199254740992.0);
 }
 static double now(void) {
@@ -28,18 +30,25 @@ static double now(void) {
 int main(int argc, char **argv) {
     int n = argc > 1 ? atoi(argv[1]) : 2000;
     if (n < 1) n = 2000;
-    double (*q)[4] = malloc(sizeof *q * 2 * n), (*t)[3] = malloc(sizeof *t * n);
-    printf("%-28s %5s %10s %10s  %s\n", "solid", "verts", "SAT us", "GJK us", "overlapping (SAT/GJK)");
+    double(*q)[4] = malloc(sizeof *q * 2 * n), (*t)[3] = malloc(sizeof *t * n);
+    printf("%-28s %5s %10s %10s  %s\n", "solid", "verts", "SAT us", "GJK us",
+           "overlapping (SAT/GJK)");
     for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; s++) {
         const vp_polyhedron *p = vp_shape_polyhedron((vp_shape)s);
         for (int i = 0; i < n; i++) {
             for (int k = 0; k < 2; k++) {
                 double l = 0;
-                for (int m = 0; m < 4; m++) { q[2 * i + k][m] = 2 * urand() - 1; l += q[2 * i + k][m] * q[2 * i + k][m]; }
+                for (int m = 0; m < 4; m++) {
+                    q[2 * i + k][m] = 2 * urand() - 1;
+                    l += q[2 * i + k][m] * q[2 * i + k][m];
+                }
                 for (int m = 0; m < 4; m++) q[2 * i + k][m] /= sqrt(l);
             }
             double d[3], l = 0;
-            for (int m = 0; m < 3; m++) { d[m] = 2 * urand() - 1; l += d[m] * d[m]; }
+            for (int m = 0; m < 3; m++) {
+                d[m] = 2 * urand() - 1;
+                l += d[m] * d[m];
+            }
             double r = 2 * (p->inradius + urand() * (1 - p->inradius));
             for (int m = 0; m < 3; m++) t[i][m] = d[m] / sqrt(l) * r;
         }

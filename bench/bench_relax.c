@@ -14,10 +14,10 @@
 
 typedef struct relax_case {
     const char *name;
-    int sphere;       /* container: sphere of radius 1, else unit box */
+    int sphere; /* container: sphere of radius 1, else unit box */
     size_t count;
-    double fraction;  /* target */
-    int rsa;          /* 1: maximal RSA at the radius relax starts from */
+    double fraction; /* target */
+    int rsa;         /* 1: maximal RSA at the radius relax starts from */
 } relax_case;
 
 static void run_case(void *arg) {
@@ -66,7 +66,8 @@ static void run_case(void *arg) {
     }
     long peak = bench_status_kb("VmHWM:");
     printf("%-34s %7zu spheres, fraction %.4f, %.2f s, peak %.1f B/particle (container/r = "
-           "%.1f)%s\n", k->name, p->count, vp_particles_volume(p) / ci.volume, t,
+           "%.1f)%s\n",
+           k->name, p->count, vp_particles_volume(p) / ci.volume, t,
            (peak - before) * 1024.0 / p->count, (ci.bmax[0] - ci.bmin[0]) / (2 * r), extra);
     vp_particles_destroy(p);
     vp_container_destroy(c);

@@ -65,10 +65,11 @@ static void run_case(void *arg) {
     double img_bytes = (double)npix * 24.0;
     double per = ((peak - before) * 1024.0 - img_bytes) / (double)n;
     double set_bytes = (double)before * 1024.0 / (double)n;
-    printf("%-22s %9zu spheres (r %.4g) %5dx%-5d %6.2f s  %5.1f Mrays/s  covered %4.1f %%  renderer "
-           "%5.1f B/particle (+ particle set ~%.0f B/particle, image %.0f MB)\n",
-           k->name, n, (double)p->uniform_radius, img->width, img->height, t, rays / t * 1e-6, 100.0 * covered / npix, per,
-           set_bytes, img_bytes * 1e-6);
+    printf(
+        "%-22s %9zu spheres (r %.4g) %5dx%-5d %6.2f s  %5.1f Mrays/s  covered %4.1f %%  renderer "
+        "%5.1f B/particle (+ particle set ~%.0f B/particle, image %.0f MB)\n",
+        k->name, n, (double)p->uniform_radius, img->width, img->height, t, rays / t * 1e-6,
+        100.0 * covered / npix, per, set_bytes, img_bytes * 1e-6);
     vp_image_destroy(img);
     vp_particles_destroy(p);
     vp_context_destroy(ctx);

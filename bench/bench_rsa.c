@@ -71,7 +71,11 @@ static void run_case(void *arg) {
 /* Textbook RSA: uniform darts in [r, 1-r]^3, a dense cell grid of side 2r
  * holding up to 8 particles per cell, stop at n or `retries` failures in a
  * row. */
-typedef struct naive_arg { double r; size_t n; int retries; } naive_arg;
+typedef struct naive_arg {
+    double r;
+    size_t n;
+    int retries;
+} naive_arg;
 
 static void run_naive(void *arg) {
     naive_arg *a = arg;

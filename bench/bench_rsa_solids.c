@@ -65,14 +65,26 @@ int main(int argc, char **argv) {
     size_t n = (size_t)(1e5 * scale);
     double rc = cbrt(0.25 / ((double)n * vp_shape_unit_volume(VP_SHAPE_CUBE)));
     printf("bench_rsa_solids: scale %g; cubes of bounding radius %.5f\n", scale, rc);
-    scase a = {"cubes, random orientation, count", VP_SHAPE_CUBE, VP_ORIENT_RANDOM,
-               VP_OVERLAP_EXACT, rc, n};
+    scase a = {"cubes, random orientation, count",
+               VP_SHAPE_CUBE,
+               VP_ORIENT_RANDOM,
+               VP_OVERLAP_EXACT,
+               rc,
+               n};
     bench_fork(run, &a);
-    scase b = {"cubes, random orientation, count=max", VP_SHAPE_CUBE, VP_ORIENT_RANDOM,
-               VP_OVERLAP_EXACT, rc, 0};
+    scase b = {"cubes, random orientation, count=max",
+               VP_SHAPE_CUBE,
+               VP_ORIENT_RANDOM,
+               VP_OVERLAP_EXACT,
+               rc,
+               0};
     bench_fork(run, &b);
-    scase ref = {"reference: spheres, same radius and count", VP_SHAPE_SPHERE, VP_ORIENT_RANDOM,
-                 VP_OVERLAP_EXACT, rc, n};
+    scase ref = {"reference: spheres, same radius and count",
+                 VP_SHAPE_SPHERE,
+                 VP_ORIENT_RANDOM,
+                 VP_OVERLAP_EXACT,
+                 rc,
+                 n};
     bench_fork(run, &ref);
     double r = 0.04 / cbrt(scale);
     for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; s++) {

@@ -38,8 +38,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (!m->boundary_edges && !m->nonmanifold_edges && m->ntris <= 4096 && diag > 0 &&
         isfinite(diag)) {
         vpv_levelset *ls = NULL;
-        int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, diag / 12, 3, 3,
-                                        0, NULL, NULL, &ls, err, sizeof err);
+        int rc = vpv_levelset_from_mesh(m->verts, m->nverts, m->tris, m->ntris, diag / 12, 3, 3, 0,
+                                        NULL, NULL, &ls, err, sizeof err);
         if (rc == VP_OK) vpv_levelset_destroy(ls);
     }
     vp_mesh_destroy(m);

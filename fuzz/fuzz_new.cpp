@@ -9,14 +9,12 @@
 #include <cstdlib>
 #include <new>
 
-static void *alloc_or_throw(std::size_t n)
-{
+static void *alloc_or_throw(std::size_t n) {
     if (void *p = std::malloc(n ? n : 1)) return p;
     throw std::bad_alloc();
 }
 
-static void *aligned_or_null(std::size_t n, std::align_val_t a)
-{
+static void *aligned_or_null(std::size_t n, std::align_val_t a) {
     void *p = nullptr;
     std::size_t al = static_cast<std::size_t>(a);
     if (al < sizeof(void *)) al = sizeof(void *);
@@ -26,20 +24,21 @@ static void *aligned_or_null(std::size_t n, std::align_val_t a)
 
 void *operator new(std::size_t n) { return alloc_or_throw(n); }
 void *operator new[](std::size_t n) { return alloc_or_throw(n); }
-void *operator new(std::size_t n, const std::nothrow_t &) noexcept { return std::malloc(n ? n : 1); }
-void *operator new[](std::size_t n, const std::nothrow_t &) noexcept { return std::malloc(n ? n : 1); }
-void *operator new(std::size_t n, std::align_val_t a)
-{
+void *operator new(std::size_t n, const std::nothrow_t &) noexcept {
+    return std::malloc(n ? n : 1);
+}
+void *operator new[](std::size_t n, const std::nothrow_t &) noexcept {
+    return std::malloc(n ? n : 1);
+}
+void *operator new(std::size_t n, std::align_val_t a) {
     if (void *p = aligned_or_null(n, a)) return p;
     throw std::bad_alloc();
 }
 void *operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
-void *operator new(std::size_t n, std::align_val_t a, const std::nothrow_t &) noexcept
-{
+void *operator new(std::size_t n, std::align_val_t a, const std::nothrow_t &) noexcept {
     return aligned_or_null(n, a);
 }
-void *operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t &) noexcept
-{
+void *operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t &) noexcept {
     return aligned_or_null(n, a);
 }
 void operator delete(void *p) noexcept { std::free(p); }

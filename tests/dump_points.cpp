@@ -13,9 +13,11 @@
 #include <string>
 #include <vector>
 
-int main(int argc, char **argv)
-{
-    if (argc != 2) { std::fprintf(stderr, "usage: dump_points FILE.vdb\n"); return 2; }
+int main(int argc, char **argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: dump_points FILE.vdb\n");
+        return 2;
+    }
     openvdb::initialize();
     namespace vp = openvdb::points;
     try {
@@ -27,7 +29,10 @@ int main(int argc, char **argv)
         for (auto &g : *grids)
             if (auto p = openvdb::gridPtrCast<vp::PointDataGrid>(g))
                 if (!grid || p->getName() == "points") grid = p;
-        if (!grid) { std::fprintf(stderr, "no points grid\n"); return 1; }
+        if (!grid) {
+            std::fprintf(stderr, "no points grid\n");
+            return 1;
+        }
         const auto &xf = grid->transform();
         for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
             const auto &desc = leaf->attributeSet().descriptor();
@@ -36,18 +41,23 @@ int main(int argc, char **argv)
             vp::AttributeHandle<int32_t> hi(leaf->constAttributeArray("id"));
             std::unique_ptr<vp::AttributeHandle<openvdb::math::Quats>> ho;
             if (desc.find("orient") != vp::AttributeSet::INVALID_POS)
-                ho.reset(new vp::AttributeHandle<openvdb::math::Quats>(leaf->constAttributeArray("orient")));
+                ho.reset(new vp::AttributeHandle<openvdb::math::Quats>(
+                    leaf->constAttributeArray("orient")));
             std::unique_ptr<vp::AttributeHandle<int32_t>> hs;
             if (desc.find("shape") != vp::AttributeSet::INVALID_POS)
                 hs.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray("shape")));
             std::vector<std::pair<std::string, vp::GroupHandle>> gh;
-            for (const auto &kv : desc.groupMap()) gh.emplace_back(kv.first, leaf->groupHandle(kv.first));
+            for (const auto &kv : desc.groupMap())
+                gh.emplace_back(kv.first, leaf->groupHandle(kv.first));
             for (auto idx = leaf->beginIndexOn(); idx; ++idx) {
-                const openvdb::Vec3d w = xf.indexToWorld(idx.getCoord().asVec3d() + openvdb::Vec3d(hp.get(*idx)));
-                std::printf("%d %.17g %.17g %.17g %.9g", hi.get(*idx), w[0], w[1], w[2], double(hr.get(*idx)));
+                const openvdb::Vec3d w =
+                    xf.indexToWorld(idx.getCoord().asVec3d() + openvdb::Vec3d(hp.get(*idx)));
+                std::printf("%d %.17g %.17g %.17g %.9g", hi.get(*idx), w[0], w[1], w[2],
+                            double(hr.get(*idx)));
                 if (ho) {
                     const openvdb::math::Quats q = ho->get(*idx);
-                    std::printf(" %.9g %.9g %.9g %.9g", double(q[0]), double(q[1]), double(q[2]), double(q[3]));
+                    std::printf(" %.9g %.9g %.9g %.9g", double(q[0]), double(q[1]), double(q[2]),
+                                double(q[3]));
                 }
                 std::string gs;
                 for (auto &g : gh)

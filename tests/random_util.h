@@ -51,7 +51,8 @@ static inline vp_container *unit_box(void) {
 }
 
 /* One pass of radius r: count spheres, or maximal when count is 0. */
-static inline void one_pass(vp_rsa_pass *ps, vp_rsa_params *rp, double r, size_t count, uint64_t seed) {
+static inline void one_pass(vp_rsa_pass *ps, vp_rsa_params *rp, double r, size_t count,
+                            uint64_t seed) {
     vp_rsa_pass_init(ps);
     ps->count = count;
     ps->maximal = count == 0;
@@ -64,8 +65,8 @@ static inline void one_pass(vp_rsa_pass *ps, vp_rsa_params *rp, double r, size_t
 
 /* Two passes: n0 spheres of radius law r0 (0: maximal), grown or not,
  * then n1 of law r1 (0: maximal). */
-static inline void two_passes(vp_rsa_pass ps[2], vp_rsa_params *rp, const char *r0, size_t n0, int grow0,
-                       const char *r1, size_t n1, uint64_t seed) {
+static inline void two_passes(vp_rsa_pass ps[2], vp_rsa_params *rp, const char *r0, size_t n0,
+                              int grow0, const char *r1, size_t n1, uint64_t seed) {
     const char *law[2] = {r0, r1};
     size_t n[2] = {n0, n1};
     for (int k = 0; k < 2; k++) {

@@ -16,10 +16,10 @@
 typedef struct solid {
     vp_shape s;
     int V, E, f3, f4, f5, f6, f8, f10;
-    double vol_a3;   /* volume at edge 1 */
-    double lit;      /* literature lattice packing density (Betke & Henk 2000) */
+    double vol_a3;    /* volume at edge 1 */
+    double lit;       /* literature lattice packing density (Betke & Henk 2000) */
     double shortfall; /* how far below lit our basis is allowed (docs/lattices.md) */
-    int symmetric;   /* K = -K */
+    int symmetric;    /* K = -K */
 } solid;
 
 static solid solids[13];
@@ -31,14 +31,20 @@ static void fill(void) {
         {VP_SHAPE_CUBOCTAHEDRON, 12, 24, 8, 6, 0, 0, 0, 0, 5 * r2 / 3, 0.918367, 0, 1},
         {VP_SHAPE_TRUNCATED_CUBE, 24, 36, 8, 0, 0, 0, 6, 0, (21 + 14 * r2) / 3, 0.973747, 0, 1},
         {VP_SHAPE_TRUNCATED_OCTAHEDRON, 24, 36, 0, 6, 0, 8, 0, 0, 8 * r2, 1.0, 0, 1},
-        {VP_SHAPE_RHOMBICUBOCTAHEDRON, 24, 48, 8, 18, 0, 0, 0, 0, (12 + 10 * r2) / 3, 0.875805, 0, 1},
+        {VP_SHAPE_RHOMBICUBOCTAHEDRON, 24, 48, 8, 18, 0, 0, 0, 0, (12 + 10 * r2) / 3, 0.875805, 0,
+         1},
         {VP_SHAPE_TRUNCATED_CUBOCTAHEDRON, 48, 72, 0, 12, 0, 8, 6, 0, 22 + 14 * r2, 0.849373, 0, 1},
         {VP_SHAPE_SNUB_CUBE, 24, 60, 32, 6, 0, 0, 0, 0, 7.8894774, 0.787699, 2.0e-5, 0},
-        {VP_SHAPE_ICOSIDODECAHEDRON, 30, 60, 20, 0, 12, 0, 0, 0, (45 + 17 * r5) / 6, 0.864720, 0, 1},
-        {VP_SHAPE_TRUNCATED_DODECAHEDRON, 60, 90, 20, 0, 0, 0, 0, 12, 5 * (99 + 47 * r5) / 12, 0.897787, 0, 1},
-        {VP_SHAPE_TRUNCATED_ICOSAHEDRON, 60, 90, 0, 0, 12, 20, 0, 0, (125 + 43 * r5) / 4, 0.784987, 0, 1},
-        {VP_SHAPE_RHOMBICOSIDODECAHEDRON, 60, 120, 20, 30, 12, 0, 0, 0, (60 + 29 * r5) / 3, 0.804708, 0, 1},
-        {VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON, 120, 180, 0, 30, 0, 20, 0, 12, 95 + 50 * r5, 0.827213, 0, 1},
+        {VP_SHAPE_ICOSIDODECAHEDRON, 30, 60, 20, 0, 12, 0, 0, 0, (45 + 17 * r5) / 6, 0.864720, 0,
+         1},
+        {VP_SHAPE_TRUNCATED_DODECAHEDRON, 60, 90, 20, 0, 0, 0, 0, 12, 5 * (99 + 47 * r5) / 12,
+         0.897787, 0, 1},
+        {VP_SHAPE_TRUNCATED_ICOSAHEDRON, 60, 90, 0, 0, 12, 20, 0, 0, (125 + 43 * r5) / 4, 0.784987,
+         0, 1},
+        {VP_SHAPE_RHOMBICOSIDODECAHEDRON, 60, 120, 20, 30, 12, 0, 0, 0, (60 + 29 * r5) / 3,
+         0.804708, 0, 1},
+        {VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON, 120, 180, 0, 30, 0, 20, 0, 12, 95 + 50 * r5,
+         0.827213, 0, 1},
         {VP_SHAPE_SNUB_DODECAHEDRON, 60, 150, 80, 0, 12, 0, 0, 0, 37.61664996, 0.788640, 0, 0},
     };
     memcpy(solids, t, sizeof t);
@@ -69,13 +75,18 @@ static void test_polyhedra(void) {
             cnt[p->face_size[f]]++;
         }
         double a = edge_length(p);
-        fprintf(stderr, "   %-28s V=%d E=%d F=%d (3:%d 4:%d 5:%d 6:%d 8:%d 10:%d) edge %.6f vol %.12f\n",
-                vp_shape_name(S->s), p->nverts, p->nedges, p->nfaces, cnt[3], cnt[4], cnt[5], cnt[6],
-                cnt[8], cnt[10], a, p->volume);
+        fprintf(stderr,
+                "   %-28s V=%d E=%d F=%d (3:%d 4:%d 5:%d 6:%d 8:%d 10:%d) edge %.6f vol %.12f\n",
+                vp_shape_name(S->s), p->nverts, p->nedges, p->nfaces, cnt[3], cnt[4], cnt[5],
+                cnt[6], cnt[8], cnt[10], a, p->volume);
         ASSERT_EQ_INT(p->nverts, S->V);
         ASSERT_EQ_INT(p->nedges, S->E);
-        ASSERT_EQ_INT(cnt[3], S->f3); ASSERT_EQ_INT(cnt[4], S->f4); ASSERT_EQ_INT(cnt[5], S->f5);
-        ASSERT_EQ_INT(cnt[6], S->f6); ASSERT_EQ_INT(cnt[8], S->f8); ASSERT_EQ_INT(cnt[10], S->f10);
+        ASSERT_EQ_INT(cnt[3], S->f3);
+        ASSERT_EQ_INT(cnt[4], S->f4);
+        ASSERT_EQ_INT(cnt[5], S->f5);
+        ASSERT_EQ_INT(cnt[6], S->f6);
+        ASSERT_EQ_INT(cnt[8], S->f8);
+        ASSERT_EQ_INT(cnt[10], S->f10);
         /* vertices on the unit sphere, every edge of the same length */
         for (int i = 0; i < p->nverts; i++) ASSERT_NEAR(vp_norm3(p->verts[i]), 1.0, 1e-14);
         for (int e = 0; e < p->nedges; e++) {
@@ -91,7 +102,8 @@ static void test_polyhedra(void) {
             int found = 0;
             for (int j = 0; j < p->nverts; j++)
                 if (fabs(p->verts[i][0] + p->verts[j][0]) + fabs(p->verts[i][1] + p->verts[j][1]) +
-                        fabs(p->verts[i][2] + p->verts[j][2]) < 1e-12)
+                        fabs(p->verts[i][2] + p->verts[j][2]) <
+                    1e-12)
                     found = 1;
             sym = found;
         }
@@ -175,15 +187,17 @@ static void test_lattices(void) {
                 for (int l = -3; l <= 3; l++) {
                     if (!i && !j && !l) continue;
                     double v[3];
-                    for (int q = 0; q < 3; q++) v[q] = i * b.a[0][q] + j * b.a[1][q] + l * b.a[2][q];
-                    double g = gauge((const double (*)[3])nf, hf, m, v);
+                    for (int q = 0; q < 3; q++)
+                        v[q] = i * b.a[0][q] + j * b.a[1][q] + l * b.a[2][q];
+                    double g = gauge((const double(*)[3])nf, hf, m, v);
                     if (g < lam) lam = g;
                     if (fabs(g - 1) < 1e-7) touch++;
                 }
         double a = edge_length(p);
         double frac = S->vol_a3 * a * a * a / det;
-        fprintf(stderr, "   %-28s %5d axes; least gauge %.15f, %2d contacts, fraction %.9f "
-                        "(literature %.6f, %+.2g)\n",
+        fprintf(stderr,
+                "   %-28s %5d axes; least gauge %.15f, %2d contacts, fraction %.9f "
+                "(literature %.6f, %+.2g)\n",
                 vp_shape_name(S->s), m, lam, touch, frac, S->lit, frac - S->lit);
         /* no overlap (to rounding), and at contact */
         ASSERT_GE(lam, 1 - 1e-12);
@@ -200,7 +214,8 @@ static void test_lattices(void) {
                 for (int l = -1; l <= 1; l++) {
                     if (!i && !j && !l) continue;
                     double v[3];
-                    for (int q = 0; q < 3; q++) v[q] = i * b.a[0][q] + j * b.a[1][q] + l * b.a[2][q];
+                    for (int q = 0; q < 3; q++)
+                        v[q] = i * b.a[0][q] + j * b.a[1][q] + l * b.a[2][q];
                     ASSERT_GE(vp_poly_separation(p, 1, qid, o, p, 1, qid, v), -1e-9);
                 }
     }
@@ -208,12 +223,17 @@ static void test_lattices(void) {
 
 static uint64_t rng = 0x9E3779B97F4A7C15ull;
 static double urand(void) {
-    rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
     return (double)(rng >> 11) * (1.0 / 9007199254740992.0);
 }
 static void rand_quat(double q[4]) {
     double n = 0;
-    for (int k = 0; k < 4; k++) { q[k] = 2 * urand() - 1; n += q[k] * q[k]; }
+    for (int k = 0; k < 4; k++) {
+        q[k] = 2 * urand() - 1;
+        n += q[k] * q[k];
+    }
     n = sqrt(n);
     for (int k = 0; k < 4; k++) q[k] /= n;
 }
@@ -230,9 +250,13 @@ static void test_gjk_against_sat(void) {
             rand_quat(qa);
             rand_quat(qb);
             double n = 0;
-            for (int c = 0; c < 3; c++) { d[c] = 2 * urand() - 1; n += d[c] * d[c]; }
+            for (int c = 0; c < 3; c++) {
+                d[c] = 2 * urand() - 1;
+                n += d[c] * d[c];
+            }
             n = sqrt(n);
-            double rb = 0.5 + urand(), dist = (p->inradius * (1 + rb)) + urand() * (1 - p->inradius) * (1 + rb);
+            double rb = 0.5 + urand(),
+                   dist = (p->inradius * (1 + rb)) + urand() * (1 - p->inradius) * (1 + rb);
             for (int c = 0; c < 3; c++) tb[c] = d[c] / n * dist;
             double sep = vp_poly_separation(p, 1, qa, ta, p, rb, qb, tb);
             vp_convex A, B;
@@ -244,7 +268,8 @@ static void test_gjk_against_sat(void) {
             agree++;
             overl += ov;
         }
-        fprintf(stderr, "   %-28s GJK = SAT on %d pairs (%d overlapping)\n", vp_shape_name(s), agree, overl);
+        fprintf(stderr, "   %-28s GJK = SAT on %d pairs (%d overlapping)\n", vp_shape_name(s),
+                agree, overl);
         ASSERT_TRUE(agree > 250 && overl > 20 && overl < agree - 20);
     }
 }

@@ -17,9 +17,9 @@
 
 /* A cube of side 1 about the origin, outward (counter-clockwise seen from
  * outside); coordinates exact in float, as Assimp reads a file. */
-static const double CUBE_V[8 * 3] = {
-    -0.5, -0.5, -0.5, 0.5, -0.5, -0.5, 0.5, 0.5, -0.5, -0.5, 0.5, -0.5,
-    -0.5, -0.5, 0.5,  0.5, -0.5, 0.5,  0.5, 0.5, 0.5,  -0.5, 0.5, 0.5};
+static const double CUBE_V[8 * 3] = {-0.5, -0.5, -0.5, 0.5,  -0.5, -0.5, 0.5, 0.5,
+                                     -0.5, -0.5, 0.5,  -0.5, -0.5, -0.5, 0.5, 0.5,
+                                     -0.5, 0.5,  0.5,  0.5,  0.5,  -0.5, 0.5, 0.5};
 static const uint32_t CUBE_T[12 * 3] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
                                         2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 0, 4, 7, 0, 7, 3};
 
@@ -28,7 +28,8 @@ static char g_dir[256];
 static void write_obj(const char *path, const double *v, size_t nv, const uint32_t *t, size_t nt) {
     FILE *f = fopen(path, "w");
     ASSERT_TRUE(f != NULL);
-    for (size_t i = 0; i < nv; i++) fprintf(f, "v %.17g %.17g %.17g\n", v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+    for (size_t i = 0; i < nv; i++)
+        fprintf(f, "v %.17g %.17g %.17g\n", v[3 * i], v[3 * i + 1], v[3 * i + 2]);
     for (size_t i = 0; i < nt; i++)
         fprintf(f, "f %u %u %u\n", t[3 * i] + 1, t[3 * i + 1] + 1, t[3 * i + 2] + 1);
     ASSERT_TRUE(fclose(f) == 0);
@@ -148,21 +149,20 @@ static void test_bad_arrays(void) {
     /* misaligned: a double array starting one byte in */
     unsigned char *buf = malloc(8 * 3 * sizeof(double) + 8);
     memcpy(buf + 1, CUBE_V, sizeof CUBE_V);
-    r = vp_container_from_mesh(ctx, (const double *)(const void *)(buf + 1), 8, CUBE_T, 12, &cp, &c);
+    r = vp_container_from_mesh(ctx, (const double *)(const void *)(buf + 1), 8, CUBE_T, 12, &cp,
+                               &c);
     expect_error(ctx, VP_ERR_INVALID_ARGUMENT, "not aligned", r, c);
     free(buf);
     uint32_t bad_t[12 * 3];
     memcpy(bad_t, CUBE_T, sizeof bad_t);
     bad_t[3 * 5 + 1] = 8;
     r = vp_container_from_mesh(ctx, CUBE_V, 8, bad_t, 12, &cp, &c);
-    expect_error(ctx, VP_ERR_INVALID_ARGUMENT, "triangle 5 has vertex index 8, out of range", r,
-                 c);
+    expect_error(ctx, VP_ERR_INVALID_ARGUMENT, "triangle 5 has vertex index 8, out of range", r, c);
     double bad_v[8 * 3];
     memcpy(bad_v, CUBE_V, sizeof bad_v);
     bad_v[3 * 6 + 2] = NAN;
     r = vp_container_from_mesh(ctx, bad_v, 8, CUBE_T, 12, &cp, &c);
-    expect_error(ctx, VP_ERR_INVALID_ARGUMENT, "vertex 6 has a non-finite coordinate (nan)", r,
-                 c);
+    expect_error(ctx, VP_ERR_INVALID_ARGUMENT, "vertex 6 has a non-finite coordinate (nan)", r, c);
     bad_v[3 * 6 + 2] = -INFINITY;
     r = vp_container_from_mesh(ctx, bad_v, 8, CUBE_T, 12, &cp, &c);
     expect_error(ctx, VP_ERR_INVALID_ARGUMENT, "(-inf)", r, c);

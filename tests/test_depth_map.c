@@ -29,7 +29,7 @@ static void test_distance_transform_and_sign_rule(void) {
     float *val = malloc(7 * 7 * 7 * sizeof *val);
     ASSERT_TRUE(val);
     for (int i = 0; i < 343; i++) val[i] = (float)-band;
-#define AT(x, y, z) ((size_t)(((z) * 7 + (y)) * 7 + (x)))
+#define AT(x, y, z) ((size_t)(((z)*7 + (y)) * 7 + (x)))
     val[AT(3, 3, 3)] = NAN;
     /* an exterior tile in a corner: it and its neighbours are undecided */
     val[AT(0, 0, 0)] = (float)band;
@@ -42,14 +42,14 @@ static void test_distance_transform_and_sign_rule(void) {
             for (int dx = -1; dx <= 1; dx++) ASSERT_TRUE(isnan(b[AT(3 + dx, 3 + dy, 3 + dz)]));
     double k2 = -(band + 8 * v - 3.75 * v), k3 = -(band + 16 * v - 3.75 * v);
     ASSERT_NEAR(b[AT(5, 3, 3)], k2, 1e-6);
-    ASSERT_NEAR(b[AT(1, 5, 2)], k2, 1e-6);  /* Chebyshev: max(2, 2, 1) */
+    ASSERT_NEAR(b[AT(1, 5, 2)], k2, 1e-6); /* Chebyshev: max(2, 2, 1) */
     ASSERT_NEAR(b[AT(6, 3, 3)], k3, 1e-6);
     ASSERT_NEAR(b[AT(6, 0, 6)], k3, 1e-6);
-    ASSERT_LE(b[AT(6, 3, 3)], k3);          /* never deeper than derived */
-    ASSERT_TRUE(isnan(b[AT(0, 0, 0)]));      /* the exterior tile */
-    ASSERT_TRUE(isnan(b[AT(1, 1, 0)]));      /* next to it: sign changes */
+    ASSERT_LE(b[AT(6, 3, 3)], k3);      /* never deeper than derived */
+    ASSERT_TRUE(isnan(b[AT(0, 0, 0)])); /* the exterior tile */
+    ASSERT_TRUE(isnan(b[AT(1, 1, 0)])); /* next to it: sign changes */
     ASSERT_TRUE(isnan(b[AT(1, 1, 1)]));
-    ASSERT_NEAR(b[AT(2, 0, 0)], k3, 1e-6);  /* two away: k = 3 from the leaf */
+    ASSERT_NEAR(b[AT(2, 0, 0)], k3, 1e-6); /* two away: k = 3 from the leaf */
     /* every decided block is counted */
     size_t n = 0;
     for (int i = 0; i < 343; i++) n += !isnan(b[i]);
@@ -120,9 +120,11 @@ static void test_bound_holds_against_samples(const char *name, size_t min_outsid
             outside++;
         }
     }
-    fprintf(stderr, "   %s: %zu of %lld blocks decided; %zu inside and %zu outside checks "
-            "(%zu within a voxel of the bound)\n", name, m.decided,
-            (long long)(m.dims[0] * m.dims[1] * m.dims[2]), inside, outside, tight);
+    fprintf(stderr,
+            "   %s: %zu of %lld blocks decided; %zu inside and %zu outside checks "
+            "(%zu within a voxel of the bound)\n",
+            name, m.decided, (long long)(m.dims[0] * m.dims[1] * m.dims[2]), inside, outside,
+            tight);
     ASSERT_GE(inside, 10000);
     ASSERT_GE(outside, min_outside);
     vp_depth_map_free(&m);

@@ -62,7 +62,8 @@ static vp_particles *make_set(vp_context *ctx, size_t n) {
 static void same_set(const vp_particles *a, const vp_particles *b, int float_positions) {
     ASSERT_EQ_INT(b->count, a->count);
     ASSERT_EQ_INT(b->group_count, a->group_count);
-    for (unsigned g = 0; g < a->group_count; g++) ASSERT_TRUE(!strcmp(a->group_names[g], b->group_names[g]));
+    for (unsigned g = 0; g < a->group_count; g++)
+        ASSERT_TRUE(!strcmp(a->group_names[g], b->group_names[g]));
     ASSERT_EQ_INT(b->has_orient, a->has_orient);
     for (size_t i = 0; i < a->count; i++) {
         for (int c = 0; c < 3; c++) {
@@ -152,23 +153,32 @@ static void test_readers_strict(void) {
     ASSERT_OK(ctx, import_text(ctx, "one.csv", "id,x,y,z,pscale,group\n0,1,2,3,0.5,a\n", &n));
     ASSERT_EQ_INT(n, 1);
     ASSERT_OK(ctx, import_text(ctx, "crlf.csv", "id,x,y,z,pscale,group\r\n0,1,2,3,0.5,a\r\n", &n));
-    ASSERT_EQ_INT(import_text(ctx, "sp.csv", "id,x,y,z,pscale,group\n0, 1,2,3,0.5,a\n", NULL), VP_ERR_FORMAT);
-    ASSERT_EQ_INT(import_text(ctx, "nan.csv", "id,x,y,z,pscale,group\n0,1,NaN,3,0.5,a\n", NULL), VP_ERR_FORMAT);
-    ASSERT_EQ_INT(import_text(ctx, "big.csv", "id,x,y,z,pscale,group\n0,1,2,3,1e39,a\n", NULL), VP_ERR_FORMAT);
-    ASSERT_EQ_INT(import_text(ctx, "gap.csv", "id,x,y,z,pscale,group\n1,1,2,3,0.5,a\n", NULL), VP_ERR_FORMAT);
+    ASSERT_EQ_INT(import_text(ctx, "sp.csv", "id,x,y,z,pscale,group\n0, 1,2,3,0.5,a\n", NULL),
+                  VP_ERR_FORMAT);
+    ASSERT_EQ_INT(import_text(ctx, "nan.csv", "id,x,y,z,pscale,group\n0,1,NaN,3,0.5,a\n", NULL),
+                  VP_ERR_FORMAT);
+    ASSERT_EQ_INT(import_text(ctx, "big.csv", "id,x,y,z,pscale,group\n0,1,2,3,1e39,a\n", NULL),
+                  VP_ERR_FORMAT);
+    ASSERT_EQ_INT(import_text(ctx, "gap.csv", "id,x,y,z,pscale,group\n1,1,2,3,0.5,a\n", NULL),
+                  VP_ERR_FORMAT);
     ASSERT_EQ_INT(import_text(ctx, "blank.csv", "id,x,y,z,pscale,group\n\n", NULL), VP_ERR_FORMAT);
-    const char *ply0 = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
-                       "property float y\nproperty float z\nproperty float pscale\nproperty int id\n"
-                       "end_header\n";
+    const char *ply0 =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+        "property float y\nproperty float z\nproperty float pscale\nproperty int id\n"
+        "end_header\n";
     ASSERT_OK(ctx, import_text(ctx, "e.ply", ply0, &n));
     ASSERT_EQ_INT(n, 0);
-    const char *ply3q = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
-                        "property float y\nproperty float z\nproperty float pscale\nproperty int id\n"
-                        "property float orient_x\nproperty float orient_y\nproperty float orient_w\n"
-                        "end_header\n";
+    const char *ply3q =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+        "property float y\nproperty float z\nproperty float pscale\nproperty int id\n"
+        "property float orient_x\nproperty float orient_y\nproperty float orient_w\n"
+        "end_header\n";
     ASSERT_EQ_INT(import_text(ctx, "q3.ply", ply3q, NULL), VP_ERR_FORMAT);
-    ASSERT_EQ_INT(import_text(ctx, "neg.ply", "ply\nformat binary_little_endian 1.0\nelement vertex -1\n"
-                                              "end_header\n", NULL), VP_ERR_FORMAT);
+    ASSERT_EQ_INT(import_text(ctx, "neg.ply",
+                              "ply\nformat binary_little_endian 1.0\nelement vertex -1\n"
+                              "end_header\n",
+                              NULL),
+                  VP_ERR_FORMAT);
     ASSERT_EQ_INT(import_text(ctx, "x.ply", "", NULL), VP_ERR_FORMAT);
     /* every prefix of a good PLY is refused, never read past its end */
     vp_particles *p = make_set(ctx, 5);
@@ -206,10 +216,12 @@ static void test_mutated_files(void) {
         for (int t = 0; t < 1500; t++) {
             memcpy(bad, good, len);
             int flips = 1 + (int)(rnd() * 4);
-            for (int j = 0; j < flips; j++) bad[(size_t)(rnd() * (double)len)] = (char)(unsigned char)(rnd() * 256);
+            for (int j = 0; j < flips; j++)
+                bad[(size_t)(rnd() * (double)len)] = (char)(unsigned char)(rnd() * 256);
             write_file(tmp("mut.bin"), bad, len - (t % 5 == 0 ? (size_t)(rnd() * 40) : 0));
             vp_particles *q = NULL;
-            vp_result r = vp_import(ctx, tmp("mut.bin"), k ? VP_FORMAT_CSV : VP_FORMAT_PLY, &q, NULL);
+            vp_result r =
+                vp_import(ctx, tmp("mut.bin"), k ? VP_FORMAT_CSV : VP_FORMAT_PLY, &q, NULL);
             if (r != VP_OK) {
                 ASSERT_TRUE(q == NULL);
                 refused++;

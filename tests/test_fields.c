@@ -77,15 +77,15 @@ static vp_particles *rsa(const vp_container *c, const vp_field *rf, vp_field_mod
     return p;
 }
 
-static vp_container *g_box;   /* [-0.5, 0.5]^3 */
-static vp_field *g_h, *g_ha;  /* halve and halve_abs over [-0.6, 0.6]^3 */
+static vp_container *g_box;  /* [-0.5, 0.5]^3 */
+static vp_field *g_h, *g_ha; /* halve and halve_abs over [-0.6, 0.6]^3 */
 
 /* radius field, scale and absolute: r * f(x) to float rounding */
 static void test_radius_field(void) {
     for (int mode = 0; mode < 2; mode++) {
         /* absolute: the pass's radius (1) is not used */
-        vp_particles *p = rsa(g_box, mode ? g_ha : g_h, (vp_field_mode)mode, NULL,
-                              mode ? 1.0 : 0.03, 600);
+        vp_particles *p =
+            rsa(g_box, mode ? g_ha : g_h, (vp_field_mode)mode, NULL, mode ? 1.0 : 0.03, 600);
         for (size_t i = 0; i < p->count; i++) {
             double want = 0.03 * halve(NULL, p->positions + 3 * i);
             ASSERT_NEAR(p->radii[i], want, 1e-6 * want);

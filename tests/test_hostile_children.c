@@ -43,8 +43,8 @@ static void on_sig(int sig) { (void)sig; }
 
 /* What a child reports about itself. */
 typedef struct child_report {
-    int own_group;      /* getpgid(0) == getpid() */
-    int pdeathsig;      /* PR_GET_PDEATHSIG */
+    int own_group; /* getpgid(0) == getpid() */
+    int pdeathsig; /* PR_GET_PDEATHSIG */
     int int_default, term_default, pipe_default, usr1_blocked;
     int stdout_null, stderr_null, stdin_null;
     int big_alloc_failed; /* 256 MB more than its 64 MB bound */
@@ -111,10 +111,11 @@ static void test_child_starts_clean(void) {
     close(fds[0]);
     int st = vp_subproc_wait(pid);
     ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0);
-    fprintf(stderr, "   own group %d, death signal %d, SIGINT/SIGTERM/SIGPIPE default %d%d%d, "
-                    "SIGUSR1 blocked %d, stdio on /dev/null %d%d%d, 256 MB refused %d\n",
-            r.own_group, r.pdeathsig, r.int_default, r.term_default, r.pipe_default,
-            r.usr1_blocked, r.stdin_null, r.stdout_null, r.stderr_null, r.big_alloc_failed);
+    fprintf(stderr,
+            "   own group %d, death signal %d, SIGINT/SIGTERM/SIGPIPE default %d%d%d, "
+            "SIGUSR1 blocked %d, stdio on /dev/null %d%d%d, 256 MB refused %d\n",
+            r.own_group, r.pdeathsig, r.int_default, r.term_default, r.pipe_default, r.usr1_blocked,
+            r.stdin_null, r.stdout_null, r.stderr_null, r.big_alloc_failed);
     ASSERT_EQ_INT(r.own_group, 1);
     ASSERT_EQ_INT(r.pdeathsig, SIGKILL);
     ASSERT_EQ_INT(r.int_default + r.term_default + r.pipe_default, 3);
@@ -430,9 +431,11 @@ static void test_memory_limit_binds_importer(void) {
     const char *path = tmp("large.ply");
     FILE *f = fopen(path, "wb");
     ASSERT_TRUE(f != NULL);
-    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %ld\nproperty float x\n"
-               "property float y\nproperty float z\nelement face %ld\n"
-               "property list uchar int vertex_indices\nend_header\n", nv, nf);
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\nelement vertex %ld\nproperty float x\n"
+            "property float y\nproperty float z\nelement face %ld\n"
+            "property list uchar int vertex_indices\nend_header\n",
+            nv, nf);
     for (long i = 0; i < nv; i++) {
         float v[3] = {(float)(i % 97), (float)((i / 97) % 89), (float)(i % 3)};
         fwrite(v, sizeof v, 1, f);

@@ -159,7 +159,8 @@ static void test_float_overflow(void) {
  * end (the reason), with "..." between, and no broken UTF-8 character. */
 static void test_long_messages_keep_reason(void) {
     char path[3001];
-    for (int i = 0; i < 3000; i++) path[i] = (char)(i % 3 == 0 ? 'a' : i % 3 == 1 ? '\xc3' : '\xa9');
+    for (int i = 0; i < 3000; i++)
+        path[i] = (char)(i % 3 == 0 ? 'a' : i % 3 == 1 ? '\xc3' : '\xa9');
     path[3000] = 0;
     vp_context *ctx;
     ASSERT_OK(NULL, vp_context_create(&ctx));
@@ -171,7 +172,10 @@ static void test_long_messages_keep_reason(void) {
     ASSERT_GE(n, 1000);
     ASSERT_TRUE(strstr(m, "...") != NULL);
     ASSERT_TRUE(strstr(m, ": cannot write output (File name too long)") != NULL);
-    ASSERT_TRUE(!strncmp(m, "a\xc3\xa9" "a", 4));
+    ASSERT_TRUE(!strncmp(m,
+                         "a\xc3\xa9"
+                         "a",
+                         4));
     /* no lone continuation byte after the dots, none missing before */
     const char *d = strstr(m, "...");
     ASSERT_TRUE(((unsigned char)d[3] & 0xC0) != 0x80);

@@ -59,7 +59,7 @@ static void sphere(mesh *m, double r, const double c[3], int nu, int nv) {
         }
     }
     uint32_t south = add_vertex(m, c[0], c[1], c[2] - r);
-#define RING(i, j) (base + 1 + (uint32_t)((i) - 1) * (uint32_t)nu + (uint32_t)((j) % nu))
+#define RING(i, j) (base + 1 + (uint32_t)((i)-1) * (uint32_t)nu + (uint32_t)((j) % nu))
     for (int j = 0; j < nu; j++) add_tri(m, base, RING(1, j), RING(1, j + 1));
     for (int i = 1; i < nv - 1; i++)
         for (int j = 0; j < nu; j++) {
@@ -170,9 +170,11 @@ static void against_clean(const char *what, const mesh *clean, const mesh *broke
     ASSERT_EQ_INT(i1.inside, want);
     for (int rsa = 0; rsa < 2; rsa++) {
         result a = pack_and_check(ctx, c0, rsa, out), b = pack_and_check(ctx, c1, rsa, out);
-        fprintf(stderr, "   %s, %s: %zu particles, fraction %.4f (clean %zu, %.4f), worst "
-                        "excursion %.2g voxel\n", what, rsa ? "rsa max" : "lattice", b.count,
-                b.fraction, a.count, a.fraction, b.worst / VOXEL);
+        fprintf(stderr,
+                "   %s, %s: %zu particles, fraction %.4f (clean %zu, %.4f), worst "
+                "excursion %.2g voxel\n",
+                what, rsa ? "rsa max" : "lattice", b.count, b.fraction, a.count, a.fraction,
+                b.worst / VOXEL);
         ASSERT_LE(b.worst, 0.2 * VOXEL);
         ASSERT_LE(a.worst, 0.2 * VOXEL);
         ASSERT_NEAR(b.fraction, a.fraction, 0.02);
@@ -195,7 +197,8 @@ static void test_holes(void) {
         memcpy(m.v, clean.v, 3 * clean.nv * sizeof *m.v);
         m.nv = clean.nv;
         for (size_t t = 0; t < clean.nt; t++)
-            if (urand() >= share[s]) add_tri(&m, clean.t[3 * t], clean.t[3 * t + 1], clean.t[3 * t + 2]);
+            if (urand() >= share[s])
+                add_tri(&m, clean.t[3 * t], clean.t[3 * t + 1], clean.t[3 * t + 2]);
         char what[64];
         snprintf(what, sizeof what, "sphere, %.0f %% of triangles removed", 100 * share[s]);
         against_clean(what, &clean, &m, out_ball, VP_INSIDE_WINDING);
@@ -205,8 +208,9 @@ static void test_holes(void) {
 }
 
 static void box(mesh *m, int faces) {
-    static const double V[8 * 3] = {-0.5, -0.5, -0.5, 0.5, -0.5, -0.5, 0.5, 0.5, -0.5, -0.5, 0.5, -0.5,
-                                    -0.5, -0.5, 0.5,  0.5, -0.5, 0.5,  0.5, 0.5, 0.5,  -0.5, 0.5, 0.5};
+    static const double V[8 * 3] = {-0.5, -0.5, -0.5, 0.5,  -0.5, -0.5, 0.5, 0.5,
+                                    -0.5, -0.5, 0.5,  -0.5, -0.5, -0.5, 0.5, 0.5,
+                                    -0.5, 0.5,  0.5,  0.5,  0.5,  -0.5, 0.5, 0.5};
     static const uint32_t T[36] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
                                    2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 0, 4, 7, 0, 7, 3};
     for (int i = 0; i < 8; i++) add_vertex(m, V[3 * i], V[3 * i + 1], V[3 * i + 2]);

@@ -158,8 +158,9 @@ static vp_particles *pack_checked(int sphere, size_t count, const char *dist, vp
     vp_container_info ci;
     vp_container_get_info(c, &ci);
     ASSERT_NEAR(rep->fraction, vol / ci.volume, 1e-6);
-    fprintf(stderr, "   %zu spheres (%s, %s, fit %s): fraction %.4f, core %.4f, Z %.3f, rattlers "
-                    "%.3f, worst pair %.2g, worst wall %.2g, %d minimisations, %.1f s\n",
+    fprintf(stderr,
+            "   %zu spheres (%s, %s, fit %s): fraction %.4f, core %.4f, Z %.3f, rattlers "
+            "%.3f, worst pair %.2g, worst wall %.2g, %d minimisations, %.1f s\n",
             count, dist, sphere ? "sphere" : "box", fit == VP_FIT_INSIDE ? "inside" : "center",
             rep->fraction, rep->core_fraction, rep->mean_contacts, rep->rattler_fraction, w,
             worst_wall, rep->minimizations, rep->seconds);
@@ -189,7 +190,8 @@ static void test_jammed(size_t count, double zlo, double zhi) {
             u[k] = (double)(st >> 11) * 0x1.0p-53 - 0.5;
             n2 += u[k] * u[k];
         }
-        for (int k = 0; k < 3; k++) p->positions[3 * i + k] += 1e-3 * radius_of(p, i) * u[k] / sqrt(n2);
+        for (int k = 0; k < 3; k++)
+            p->positions[3 * i + k] += 1e-3 * radius_of(p, i) * u[k] / sqrt(n2);
     }
     size_t over = 0;
     worst_pair(p, 0.0, &over);
@@ -306,7 +308,8 @@ static void test_margin_gap(void) {
                 const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
                 double s = ri + radius_of(p, j);
                 double g = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                                (a[2] - b[2]) * (a[2] - b[2])) - s;
+                                (a[2] - b[2]) * (a[2] - b[2])) -
+                           s;
                 least_gap = fmin(least_gap, g);
                 if (g - gap < 1e-4 * s) {
                     z[i]++;
@@ -321,14 +324,15 @@ static void test_margin_gap(void) {
                 zs += (size_t)z[i];
             }
         double zmean = (double)zs / (double)held;
-        fprintf(stderr, "   margin %g gap %g (%s, fit %s): least margin %.9g, least gap %.9g, "
-                        "fraction %.4f, Z %.3f over %zu held (report: Z %.3f)\n",
-                margin, gap, sphere ? "sphere" : "box", sphere ? "inside" : "center",
-                least_margin, least_gap, rep.fraction, zmean, held, rep.mean_contacts);
+        fprintf(stderr,
+                "   margin %g gap %g (%s, fit %s): least margin %.9g, least gap %.9g, "
+                "fraction %.4f, Z %.3f over %zu held (report: Z %.3f)\n",
+                margin, gap, sphere ? "sphere" : "box", sphere ? "inside" : "center", least_margin,
+                least_gap, rep.fraction, zmean, held, rep.mean_contacts);
         ASSERT_TRUE(least_margin >= margin * (1 - 1e-9));
         ASSERT_TRUE(least_gap >= gap * (1 - 1e-6));
         ASSERT_TRUE(least_margin < margin * 1.01); /* spheres press on the margin */
-        ASSERT_TRUE(least_gap < gap * 1.01); /* and pairs press on the gap */
+        ASSERT_TRUE(least_gap < gap * 1.01);       /* and pairs press on the gap */
         ASSERT_TRUE(held > n * 8 / 10);
         ASSERT_TRUE(zmean > 5.0 && zmean < 6.8);
         free(z);

@@ -19,15 +19,15 @@ static double literature_fraction(vp_shape s, vp_lattice l) {
     switch (s) {
     case VP_SHAPE_SPHERE:
         switch (l) {
-        case VP_LATTICE_SC: return PI_ / 6;                 /* 0.5235987755982988 */
-        case VP_LATTICE_BCC: return PI_ * sqrt(3.0) / 8;    /* 0.6801747615878317 */
-        default: return PI_ / (3 * sqrt(2.0));              /* 0.7404804896930610: FCC, HCP */
+        case VP_LATTICE_SC: return PI_ / 6;              /* 0.5235987755982988 */
+        case VP_LATTICE_BCC: return PI_ * sqrt(3.0) / 8; /* 0.6801747615878317 */
+        default: return PI_ / (3 * sqrt(2.0));           /* 0.7404804896930610: FCC, HCP */
         }
-    case VP_SHAPE_TETRAHEDRON: return 18.0 / 49.0;          /* Hoylman 1970 */
+    case VP_SHAPE_TETRAHEDRON: return 18.0 / 49.0; /* Hoylman 1970 */
     case VP_SHAPE_CUBE: return 1.0;
-    case VP_SHAPE_OCTAHEDRON: return 18.0 / 19.0;           /* Minkowski 1904 */
-    case VP_SHAPE_DODECAHEDRON: return (2 + phi) / 4;       /* 0.904508...; Betke & Henk 2000 */
-    case VP_SHAPE_ICOSAHEDRON: return 0.8363574;            /* Betke & Henk 2000: 0.8363574... */
+    case VP_SHAPE_OCTAHEDRON: return 18.0 / 19.0;     /* Minkowski 1904 */
+    case VP_SHAPE_DODECAHEDRON: return (2 + phi) / 4; /* 0.904508...; Betke & Henk 2000 */
+    case VP_SHAPE_ICOSAHEDRON: return 0.8363574;      /* Betke & Henk 2000: 0.8363574... */
     default: return -1;
     }
 }
@@ -60,7 +60,8 @@ static void test_availability(void) {
             ASSERT_TRUE(vp_det3(b.a[0], b.a[1], b.a[2]) > 0); /* right-handed */
         }
     ASSERT_EQ_INT(vp_lattice_basis_get(VP_SHAPE_COUNT, VP_LATTICE_FCC, &b), -1);
-    ASSERT_EQ_INT(vp_lattice_basis_get(VP_SHAPE_SPHERE, (vp_lattice)(VP_LATTICE_DENSEST + 1), &b), -1);
+    ASSERT_EQ_INT(vp_lattice_basis_get(VP_SHAPE_SPHERE, (vp_lattice)(VP_LATTICE_DENSEST + 1), &b),
+                  -1);
     ASSERT_EQ_INT(vp_lattice_basis_get(VP_SHAPE_SPHERE, VP_LATTICE_FCC, NULL), -1);
 
     /* DEFAULT and DENSEST for spheres are FCC; DEFAULT for solids is DENSEST */
@@ -98,7 +99,8 @@ static void test_sphere_contact(void) {
                             if (fabs(d - 2) < 1e-12) ++touching;
                         }
         double frac = fraction_of(VP_SHAPE_SPHERE, &b);
-        fprintf(stderr, "   sphere %-8s %-14s min distance %.17g, contacts/site %d, fraction %.17g\n",
+        fprintf(stderr,
+                "   sphere %-8s %-14s min distance %.17g, contacts/site %d, fraction %.17g\n",
                 vp_lattice_name((vp_lattice)l), b.name, dmin, touching / b.nsites, frac);
         ASSERT_NEAR(dmin, 2.0, 1e-12);
         /* kissing numbers: SC 6, BCC 8, FCC and HCP 12 */
@@ -120,7 +122,8 @@ static const double t_zero[3] = {0, 0, 0};
 
 /* Least separation between the solid at the origin and its translates by
  * the lattice vectors with |n_i| <= N, the basis scaled by sc. */
-static double min_separation(const vp_polyhedron *p, const double a[3][3], double sc, int N, int *ntouch) {
+static double min_separation(const vp_polyhedron *p, const double a[3][3], double sc, int N,
+                             int *ntouch) {
     double best = HUGE_VAL;
     int touch = 0;
     for (int i = -N; i <= N; ++i)
@@ -147,12 +150,15 @@ static double contact_scale(const vp_polyhedron *p, const double a[3][3]) {
                 if (i < 0 || (i == 0 && (j < 0 || (j == 0 && k <= 0)))) continue; /* one of +-v */
                 double v[3];
                 lattice_vec(a, i, j, k, 1.0, v);
-                if (vp_poly_separation(p, 1, q_id, t_zero, p, 1, q_id, (double[3]){s * v[0], s * v[1], s * v[2]}) >= 0)
+                if (vp_poly_separation(p, 1, q_id, t_zero, p, 1, q_id,
+                                       (double[3]){s * v[0], s * v[1], s * v[2]}) >= 0)
                     continue;
-                double lo = s, hi = 2.0 / vp_norm3(v) * (1 + 1e-12); /* bounding spheres apart at hi */
+                double lo = s,
+                       hi = 2.0 / vp_norm3(v) * (1 + 1e-12); /* bounding spheres apart at hi */
                 for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
                     double mid = 0.5 * (lo + hi), w[3] = {mid * v[0], mid * v[1], mid * v[2]};
-                    if (vp_poly_separation(p, 1, q_id, t_zero, p, 1, q_id, w) < 0) lo = mid; else hi = mid;
+                    if (vp_poly_separation(p, 1, q_id, t_zero, p, 1, q_id, w) < 0) lo = mid;
+                    else hi = mid;
                 }
                 s = hi;
             }
@@ -169,9 +175,10 @@ static void test_solid_contact(void) {
         double m3 = min_separation(p, b.a, 1.0, 3, &touch3);
         double sstar = contact_scale(p, b.a);
         double frac = fraction_of((vp_shape)sh, &b);
-        fprintf(stderr, "   %-12s %-30s min sep %.3g (|n|<=3: %.3g), touching neighbours %d, contact scale "
-                        "1%+.2g, fraction %.17g\n", vp_shape_name((vp_shape)sh), b.name, m2, m3, touch2,
-                sstar - 1, frac);
+        fprintf(stderr,
+                "   %-12s %-30s min sep %.3g (|n|<=3: %.3g), touching neighbours %d, contact scale "
+                "1%+.2g, fraction %.17g\n",
+                vp_shape_name((vp_shape)sh), b.name, m2, m3, touch2, sstar - 1, frac);
         ASSERT_GE(m2, -1e-9);
         ASSERT_LE(m2, 1e-9);
         ASSERT_GE(m3, -1e-9);
@@ -215,7 +222,9 @@ static void test_known_vectors(void) {
 
 static uint64_t rng = 0x2545F4914F6CDD1Dull;
 static double urand(void) {
-    rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
     return (double)(rng >> 11) * (1.0 / 9007199254740992.0);
 }
 
@@ -239,7 +248,8 @@ static void test_local_optimality(void) {
             if (f - b.fraction > worst) worst = f - b.fraction;
             ASSERT_LE(f, b.fraction + 1e-10);
         }
-        fprintf(stderr, "   %-12s deformed lattices: best fraction change %.3g\n", vp_shape_name((vp_shape)sh), worst);
+        fprintf(stderr, "   %-12s deformed lattices: best fraction change %.3g\n",
+                vp_shape_name((vp_shape)sh), worst);
     }
 }
 

@@ -69,7 +69,11 @@ static void test_sc_in_box_finds_aligned_placement(void) {
  * center). That placement is a single point of the offset cell, and the
  * touching spheres sit at d = -r up to rounding: it gave 729 of 1000. */
 static void test_sc_touching_both_walls(void) {
-    const struct { double hx, hy, hz, r; vp_fit fit; size_t want; } cases[] = {
+    const struct {
+        double hx, hy, hz, r;
+        vp_fit fit;
+        size_t want;
+    } cases[] = {
         {0.5, 0.5, 0.5, 0.05, VP_FIT_INSIDE, 1000},
         {1.0, 1.5, 2.0, 0.25, VP_FIT_INSIDE, 4 * 6 * 8},
         {0.5, 0.5, 0.5, 0.05, VP_FIT_CENTER, 11 * 11 * 11},
@@ -102,7 +106,9 @@ static void test_sc_touching_both_walls(void) {
  * band's depth. A sphere of radius R whose distance is clamped so, with the
  * band 2.5 r deep (the band vdbpack sizes for r at voxel r/2), stands in for
  * a voxelized container. */
-typedef struct clamped_sphere { double R, band; } clamped_sphere;
+typedef struct clamped_sphere {
+    double R, band;
+} clamped_sphere;
 
 static double clamped_distance(void *user, const double p[3]) {
     const clamped_sphere *c = user;
@@ -228,7 +234,8 @@ static void test_count_mode_within_two_percent(void) {
     size_t wants[] = {500, 3000};
     for (int i = 0; i < 2; i++) {
         vp_lattice_report rep;
-        vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, wants[i], &rep);
+        vp_particles *p =
+            pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, wants[i], &rep);
         ASSERT_LE(fabs((double)p->count - (double)wants[i]), 0.02 * (double)wants[i]);
         ASSERT_NEAR(p->uniform_radius, rep.radius, 1e-6 * rep.radius);
         vp_particles_destroy(p);
@@ -257,7 +264,8 @@ static void test_count_mode_small_counts(void) {
     size_t wants[] = {1, 4, 5, 17, 23};
     for (int i = 0; i < 5; i++) {
         vp_lattice_report rep;
-        vp_particles *p = pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, wants[i], &rep);
+        vp_particles *p =
+            pack(c, VP_SHAPE_SPHERE, VP_LATTICE_FCC, VP_FIT_INSIDE, 0, wants[i], &rep);
         fprintf(stderr, "   box 1x2x3 --count %zu: %zu\n", wants[i], p->count);
         ASSERT_EQ_INT(p->count, wants[i]);
         vp_particles_destroy(p);

@@ -18,8 +18,7 @@ static char g_err[1024];
 
 /* Writes text (len bytes) to a fresh /tmp file ending in suffix; returns
  * a malloc'd path. */
-static char *write_temp(const void *data, size_t len, const char *suffix)
-{
+static char *write_temp(const void *data, size_t len, const char *suffix) {
     char *path = malloc(256);
     ASSERT_TRUE(path != NULL);
     snprintf(path, 256, "/tmp/vp_test_mesh_XXXXXX%s", suffix);
@@ -27,15 +26,13 @@ static char *write_temp(const void *data, size_t len, const char *suffix)
     ASSERT_TRUE(fd >= 0);
     FILE *f = fdopen(fd, "wb");
     ASSERT_TRUE(f != NULL);
-    if (len)
-        ASSERT_EQ_INT(fwrite(data, 1, len, f), len);
+    if (len) ASSERT_EQ_INT(fwrite(data, 1, len, f), len);
     ASSERT_EQ_INT(fclose(f), 0);
     return path;
 }
 
 /* Loads text written to a temp file with the given suffix; expects rc. */
-static vp_mesh *load_text(const char *text, const char *suffix, vp_result expect)
-{
+static vp_mesh *load_text(const char *text, const char *suffix, vp_result expect) {
     char *path = write_temp(text, strlen(text), suffix);
     vp_mesh *m = (vp_mesh *)(uintptr_t)1;
     vp_result r = vp_mesh_load(path, &m, g_err, sizeof g_err);
@@ -57,8 +54,7 @@ static vp_mesh *load_text(const char *text, const char *suffix, vp_result expect
 
 static vp_mesh *load_obj(const char *text) { return load_text(text, ".obj", VP_OK); }
 
-static void expect_closed(const vp_mesh *m, size_t components, double volume)
-{
+static void expect_closed(const vp_mesh *m, size_t components, double volume) {
     ASSERT_EQ_INT(m->boundary_edges, 0);
     ASSERT_EQ_INT(m->nonmanifold_edges, 0);
     ASSERT_EQ_INT(m->components, components);
@@ -67,17 +63,15 @@ static void expect_closed(const vp_mesh *m, size_t components, double volume)
 }
 
 /* Cube [-1,1]^3 (side 2), outward quads. */
-#define CUBE_V \
-    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n" \
+#define CUBE_V                                                                                     \
+    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"                                                 \
     "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
-#define CUBE_QUADS \
-    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
+#define CUBE_QUADS "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
 
 /* ------------------------------------------------------------------ */
 /* Closed meshes                                                       */
 
-static void test_cube_quads(void)
-{
+static void test_cube_quads(void) {
     vp_mesh *m = load_obj("# cube\n" CUBE_V CUBE_QUADS);
     expect_closed(m, 1, 8.0);
     ASSERT_EQ_INT(m->nverts, 8);
@@ -96,19 +90,16 @@ static void test_cube_quads(void)
     vp_mesh_destroy(m);
 }
 
-static void test_cube_triangles(void)
-{
-    vp_mesh *m = load_obj(CUBE_V
-                          "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
-                          "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n");
+static void test_cube_triangles(void) {
+    vp_mesh *m = load_obj(CUBE_V "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                                 "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n");
     expect_closed(m, 1, 8.0);
     ASSERT_EQ_INT(m->nverts, 8);
     ASSERT_EQ_INT(m->ntris, 12);
     vp_mesh_destroy(m);
 }
 
-static void test_memory_cube(void)
-{
+static void test_memory_cube(void) {
     const char *text = CUBE_V CUBE_QUADS;
     vp_mesh *m = NULL;
     ASSERT_OK_MSG(g_err, vp_mesh_load_memory(text, strlen(text), "obj", &m, g_err, sizeof g_err));
@@ -116,16 +107,15 @@ static void test_memory_cube(void)
     vp_mesh_destroy(m);
 }
 
-static void test_ngon_prism(void)
-{
+static void test_ngon_prism(void) {
     /* Hexagonal prism, circumradius 1, height 2, hexagon caps as n-gons. */
     char text[4096];
     size_t n = 0;
     for (int z = 0; z < 2; ++z)
         for (int i = 0; i < 6; ++i) {
             double a = i * 3.14159265358979323846 / 3.0;
-            n += (size_t)snprintf(text + n, sizeof text - n, "v %.17g %.17g %d\n", cos(a),
-                                  sin(a), z ? 1 : -1);
+            n += (size_t)snprintf(text + n, sizeof text - n, "v %.17g %.17g %d\n", cos(a), sin(a),
+                                  z ? 1 : -1);
         }
     n += (size_t)snprintf(text + n, sizeof text - n, "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n");
     for (int i = 0; i < 6; ++i) {
@@ -139,33 +129,31 @@ static void test_ngon_prism(void)
     vp_mesh_destroy(m);
 }
 
-static void test_face_syntax(void)
-{
+static void test_face_syntax(void) {
     /* v/vt/vn */
     vp_mesh *m = load_obj(CUBE_V "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                          "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 1 0 0\nvn 0 1 0\nvn -1 0 0\n"
-                          "f 1/1/1 4/2/1 3/3/1 2/4/1\nf 5/1/2 6/2/2 7/3/2 8/4/2\n"
-                          "f 1/1/3 2/2/3 6/3/3 5/4/3\nf 2/1/4 3/2/4 7/3/4 6/4/4\n"
-                          "f 3/1/5 4/2/5 8/3/5 7/4/5\nf 4/1/6 1/2/6 5/3/6 8/4/6\n");
+                                 "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 1 0 0\nvn 0 1 0\nvn -1 0 0\n"
+                                 "f 1/1/1 4/2/1 3/3/1 2/4/1\nf 5/1/2 6/2/2 7/3/2 8/4/2\n"
+                                 "f 1/1/3 2/2/3 6/3/3 5/4/3\nf 2/1/4 3/2/4 7/3/4 6/4/4\n"
+                                 "f 3/1/5 4/2/5 8/3/5 7/4/5\nf 4/1/6 1/2/6 5/3/6 8/4/6\n");
     expect_closed(m, 1, 8.0);
     ASSERT_EQ_INT(m->nverts, 8);
     vp_mesh_destroy(m);
     /* v//vn */
     m = load_obj(CUBE_V "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 1 0 0\nvn 0 1 0\nvn -1 0 0\n"
-                 "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\nf 1//3 2//3 6//3 5//3\n"
-                 "f 2//4 3//4 7//4 6//4\nf 3//5 4//5 8//5 7//5\nf 4//6 1//6 5//6 8//6\n");
+                        "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\nf 1//3 2//3 6//3 5//3\n"
+                        "f 2//4 3//4 7//4 6//4\nf 3//5 4//5 8//5 7//5\nf 4//6 1//6 5//6 8//6\n");
     expect_closed(m, 1, 8.0);
     vp_mesh_destroy(m);
     /* v/vt */
     m = load_obj(CUBE_V "vt 0 0\n"
-                 "f 1/1 4/1 3/1 2/1\nf 5/1 6/1 7/1 8/1\nf 1/1 2/1 6/1 5/1\n"
-                 "f 2/1 3/1 7/1 6/1\nf 3/1 4/1 8/1 7/1\nf 4/1 1/1 5/1 8/1\n");
+                        "f 1/1 4/1 3/1 2/1\nf 5/1 6/1 7/1 8/1\nf 1/1 2/1 6/1 5/1\n"
+                        "f 2/1 3/1 7/1 6/1\nf 3/1 4/1 8/1 7/1\nf 4/1 1/1 5/1 8/1\n");
     expect_closed(m, 1, 8.0);
     vp_mesh_destroy(m);
 }
 
-static void test_negative_indices(void)
-{
+static void test_negative_indices(void) {
     /* Each face written right after its own 4 vertices, with -4..-1. */
     vp_mesh *m = load_obj("v -1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv 1 -1 -1\nf -4 -3 -2 -1\n"
                           "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf -4 -3 -2 -1\n"
@@ -178,15 +166,13 @@ static void test_negative_indices(void)
     vp_mesh_destroy(m);
     /* Negative indices into one shared vertex block. */
     m = load_obj(CUBE_V "f -8 -5 -6 -7\nf -4 -3 -2 -1\nf -8 -7 -3 -4\n"
-                 "f -7 -6 -2 -3\nf -6 -5 -1 -2\nf -5 -8 -4 -1\n");
+                        "f -7 -6 -2 -3\nf -6 -5 -1 -2\nf -5 -8 -4 -1\n");
     expect_closed(m, 1, 8.0);
     vp_mesh_destroy(m);
 }
 
-static void test_two_objects(void)
-{
-    vp_mesh *m = load_obj("o first\n" CUBE_V CUBE_QUADS
-                          "o second\n"
+static void test_two_objects(void) {
+    vp_mesh *m = load_obj("o first\n" CUBE_V CUBE_QUADS "o second\n"
                           "v 4 -1 -1\nv 6 -1 -1\nv 6 1 -1\nv 4 1 -1\n"
                           "v 4 -1 1\nv 6 -1 1\nv 6 1 1\nv 4 1 1\n"
                           "usemtl other\n"
@@ -200,8 +186,7 @@ static void test_two_objects(void)
     vp_mesh_destroy(m);
 }
 
-static void test_unwelded_seams(void)
-{
+static void test_unwelded_seams(void) {
     /* Each face has its own 4 vertices (24 in all) at shared positions; one
      * of them written as -0 to check that -0.0 welds with 0.0. */
     vp_mesh *m = load_obj("v -1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv 1 -1 -1\n"
@@ -226,8 +211,7 @@ static void test_unwelded_seams(void)
     vp_mesh_destroy(m);
 }
 
-static void test_open_box(void)
-{
+static void test_open_box(void) {
     /* The cube without its top (+z) face. */
     vp_mesh *m = load_obj(CUBE_V "f 1 4 3 2\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
     ASSERT_EQ_INT(m->boundary_edges, 4);
@@ -237,8 +221,7 @@ static void test_open_box(void)
     vp_mesh_destroy(m);
 }
 
-static void test_nonmanifold(void)
-{
+static void test_nonmanifold(void) {
     /* Three quads sharing the edge (0,0,0)-(0,0,1). */
     vp_mesh *m = load_obj("v 0 0 0\nv 0 0 1\nv 1 0 0\nv 1 0 1\nv 0 1 0\nv 0 1 1\n"
                           "v -1 -1 0\nv -1 -1 1\n"
@@ -249,16 +232,14 @@ static void test_nonmanifold(void)
     vp_mesh_destroy(m);
 }
 
-static void test_inside_out(void)
-{
+static void test_inside_out(void) {
     vp_mesh *m = load_obj(CUBE_V "f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 6 7 3 2\n"
-                          "f 7 8 4 3\nf 8 5 1 4\n");
+                                 "f 7 8 4 3\nf 8 5 1 4\n");
     expect_closed(m, 1, -8.0);
     vp_mesh_destroy(m);
 }
 
-static void test_degenerate(void)
-{
+static void test_degenerate(void) {
     /* A tetrahedron plus a face with a repeated index (dropped) and a
      * collinear one (kept, counted). */
     vp_mesh *m = load_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 2 0 0\n"
@@ -275,8 +256,7 @@ static void test_degenerate(void)
 /* ------------------------------------------------------------------ */
 /* Other formats                                                       */
 
-static void test_ply_stl(void)
-{
+static void test_ply_stl(void) {
     const char *ply = "ply\nformat ascii 1.0\nelement vertex 4\n"
                       "property float x\nproperty float y\nproperty float z\n"
                       "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
@@ -289,10 +269,14 @@ static void test_ply_stl(void)
     vp_mesh_destroy(m);
 
     const char *stl = "solid tet\n"
-                      "facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
-                      "facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
-                      "facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
-                      "facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\n"
+                      "facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 "
+                      "0\nendloop\nendfacet\n"
+                      "facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 "
+                      "1\nendloop\nendfacet\n"
+                      "facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 "
+                      "0\nendloop\nendfacet\n"
+                      "facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 "
+                      "1\nendloop\nendfacet\n"
                       "endsolid tet\n";
     m = load_text(stl, ".stl", VP_OK);
     expect_closed(m, 1, 1.0 / 6.0);
@@ -309,8 +293,7 @@ static void test_ply_stl(void)
 /* ------------------------------------------------------------------ */
 /* Errors                                                              */
 
-static void test_nonfinite(void)
-{
+static void test_nonfinite(void) {
     const char *tet_tail = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
     char text[512];
     snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\n%s", tet_tail);
@@ -339,8 +322,8 @@ static void test_nonfinite(void)
     /* finite as a double, not as the float Assimp reads */
     snprintf(text, sizeof text, "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nv 0 0 1\n%s", tet_tail);
     load_text(text, ".obj", VP_ERR_FORMAT);
-    ASSERT_TRUE(strstr(g_err, "vertex 2 (line 2: 'v 1e39 0 0') has a non-finite coordinate (inf)") !=
-                NULL);
+    ASSERT_TRUE(
+        strstr(g_err, "vertex 2 (line 2: 'v 1e39 0 0') has a non-finite coordinate (inf)") != NULL);
     /* The vertex number: PLY keeps the file's vertex order. */
     const char *ply = "ply\nformat ascii 1.0\nelement vertex 4\n"
                       "property float x\nproperty float y\nproperty float z\n"
@@ -352,8 +335,7 @@ static void test_nonfinite(void)
     ASSERT_TRUE(strstr(g_err, "vertex 2 ") != NULL);
 }
 
-static void test_empty_and_missing(void)
-{
+static void test_empty_and_missing(void) {
     load_text("", ".obj", VP_ERR_FORMAT);
     ASSERT_TRUE(strstr(g_err, "not a mesh file Assimp can read") != NULL);
     load_text("# only a comment\n", ".obj", VP_ERR_FORMAT);
@@ -388,16 +370,14 @@ static void test_empty_and_missing(void)
 }
 
 static uint64_t rng_state = 0x243f6a8885a308d3ULL;
-static uint32_t rng(void)
-{
+static uint32_t rng(void) {
     rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
     return (uint32_t)(rng_state >> 33);
 }
 
 /* tests/data/assimp_hang.ply (a mutated PLY found by test_garbage) makes
  * Assimp 5.2 loop forever: the isolated reader must end it with one line. */
-static void test_import_hang_is_an_error(void)
-{
+static void test_import_hang_is_an_error(void) {
     if (!vp_readers_isolated()) {
         fprintf(stderr, "   skipped: this build imports in-process (sanitizer build)\n");
         return;
@@ -425,14 +405,13 @@ static void test_import_hang_is_an_error(void)
     vp_mesh_destroy(m);
 }
 
-static void test_garbage(void)
-{
+static void test_garbage(void) {
     if (!vp_readers_isolated()) { /* Assimp hangs on some of these */
         fprintf(stderr, "   skipped: this build imports in-process (sanitizer build)\n");
         return;
     }
-    static const char *hints[] = {"obj", "ply", "stl", "off", "gltf", "glb", "fbx",
-                                  "3ds", "dae", "x", "blend", ""};
+    static const char *hints[] = {"obj", "ply", "stl", "off", "gltf",  "glb",
+                                  "fbx", "3ds", "dae", "x",   "blend", ""};
     const size_t nh = sizeof hints / sizeof hints[0];
     unsigned char buf[4096];
     vp_mesh *m = NULL;
@@ -442,8 +421,7 @@ static void test_garbage(void)
     setenv("VDBPACK_IMPORT_TIMEOUT", "3", 1);
     /* Random bytes as files with various extensions. */
     for (size_t h = 0; h < nh; ++h) {
-        for (size_t i = 0; i < sizeof buf; ++i)
-            buf[i] = (unsigned char)rng();
+        for (size_t i = 0; i < sizeof buf; ++i) buf[i] = (unsigned char)rng();
         char suffix[16];
         snprintf(suffix, sizeof suffix, ".%s", hints[h]);
         char *p = write_temp(buf, sizeof buf, hints[h][0] ? suffix : "");
@@ -471,8 +449,7 @@ static void test_garbage(void)
         const char *hint;
         if (it % 3 == 0) {
             len = 1 + rng() % sizeof buf;
-            for (size_t i = 0; i < len; ++i)
-                buf[i] = (unsigned char)rng();
+            for (size_t i = 0; i < len; ++i) buf[i] = (unsigned char)rng();
             hint = hints[rng() % nh];
         } else {
             int k = (int)(rng() % 3);
@@ -484,22 +461,18 @@ static void test_garbage(void)
                 static const char pool[] = "0123456789-+.eE /\nfvnaiNF\0\xff";
                 buf[at] = (unsigned char)pool[rng() % (sizeof pool - 1)];
             }
-            if (rng() % 4 == 0)
-                len = 1 + rng() % len; /* truncate */
+            if (rng() % 4 == 0) len = 1 + rng() % len; /* truncate */
             hint = vhint[k];
         }
         vp_result r = vp_mesh_load_memory(buf, len, hint, &m, g_err, sizeof g_err);
         if (r == VP_OK) {
             ASSERT_TRUE(m != NULL);
-            for (size_t i = 0; i < 3 * m->ntris; ++i)
-                ASSERT_TRUE(m->tris[i] < m->nverts);
-            for (size_t i = 0; i < 3 * m->nverts; ++i)
-                ASSERT_TRUE(isfinite(m->verts[i]));
+            for (size_t i = 0; i < 3 * m->ntris; ++i) ASSERT_TRUE(m->tris[i] < m->nverts);
+            for (size_t i = 0; i < 3 * m->nverts; ++i) ASSERT_TRUE(isfinite(m->verts[i]));
             vp_mesh_destroy(m);
             ++ok;
         } else {
-            if (r != VP_ERR_FORMAT)
-                fprintf(stderr, "garbage #%d: %d %s\n", it, (int)r, g_err);
+            if (r != VP_ERR_FORMAT) fprintf(stderr, "garbage #%d: %d %s\n", it, (int)r, g_err);
             ASSERT_EQ_INT(r, VP_ERR_FORMAT);
             ASSERT_TRUE(m == NULL);
             ASSERT_TRUE(strchr(g_err, '\n') == NULL);
@@ -514,8 +487,7 @@ static void test_garbage(void)
 /* ------------------------------------------------------------------ */
 /* Shared third-party containers (../shared/containers, optional)      */
 
-static vp_mesh *load_shared(const char *name)
-{
+static vp_mesh *load_shared(const char *name) {
 #ifdef VP_SHARED_CONTAINERS
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", VP_SHARED_CONTAINERS, name);
@@ -539,8 +511,7 @@ static vp_mesh *load_shared(const char *name)
 #endif
 }
 
-static void test_shared(void)
-{
+static void test_shared(void) {
     vp_mesh *m;
     /* Figures from ../shared/containers/SOURCES.md (checked by a third
      * party with fan triangulation and exact-position merging). */
@@ -599,8 +570,7 @@ static void test_shared(void)
     }
 }
 
-int main(void)
-{
+int main(void) {
     RUN_TEST(test_cube_quads);
     RUN_TEST(test_cube_triangles);
     RUN_TEST(test_memory_cube);

@@ -39,9 +39,9 @@ static vp_mesh_shape *box_mesh(double a, double b, double c) {
         v[i][1] = (i & 2) ? b : 0;
         v[i][2] = (i & 4) ? c : 0;
     }
-    static const uint32_t t[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5},
-                                      {0, 5, 4}, {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2},
-                                      {1, 3, 7}, {1, 7, 5}};
+    static const uint32_t t[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6},
+                                      {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3},
+                                      {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
     return from_arrays(&v[0][0], 8, &t[0][0], 12);
 }
 
@@ -324,7 +324,8 @@ static void test_load_errors(void) {
     /* a tetrahedron without one face: 3 boundary edges */
     write_file(open_obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");
     /* a closed tetrahedron whose four vertices lie in one plane */
-    write_file(flat_obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    write_file(flat_obj,
+               "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     write_file(ok_obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     vp_mesh_shape *s = NULL;
     ASSERT_EQ_INT(vp_mesh_shape_load(ctx, open_obj, &s), VP_ERR_OPEN_MESH);

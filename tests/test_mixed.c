@@ -71,7 +71,8 @@ static double box_box_sep(const obb *a, const obb *b) {
     }
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
-            double u[3] = {a->R[0][i], a->R[1][i], a->R[2][i]}, v[3] = {b->R[0][j], b->R[1][j], b->R[2][j]};
+            double u[3] = {a->R[0][i], a->R[1][i], a->R[2][i]},
+                   v[3] = {b->R[0][j], b->R[1][j], b->R[2][j]};
             axes[n][0] = u[1] * v[2] - u[2] * v[1];
             axes[n][1] = u[2] * v[0] - u[0] * v[2];
             axes[n][2] = u[0] * v[1] - u[1] * v[0];
@@ -101,14 +102,16 @@ static vp_mesh_shape *cuboid_mesh(vp_context *ctx) {
     double v[8][3];
     for (int i = 0; i < 8; i++)
         for (int k = 0; k < 3; k++) v[i][k] = (i >> k & 1 ? 0.5 : -0.5) * cub_side[k];
-    static const uint32_t t[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    static const uint32_t t[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                      {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                      {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     vp_mesh_shape *m = NULL;
     ASSERT_OK(ctx, vp_mesh_shape_from_mesh(ctx, "cuboid.obj", &v[0][0], 8, &t[0][0], 12, &m));
     return m;
 }
 static void cuboid_half(double h[3]) {
-    double n = 0.5 * sqrt(cub_side[0] * cub_side[0] + cub_side[1] * cub_side[1] + cub_side[2] * cub_side[2]);
+    double n = 0.5 * sqrt(cub_side[0] * cub_side[0] + cub_side[1] * cub_side[1] +
+                          cub_side[2] * cub_side[2]);
     for (int k = 0; k < 3; k++) h[k] = 0.5 * cub_side[k] / n;
 }
 
@@ -159,7 +162,8 @@ static void test_kind_overlap_random_pairs(void) {
         if (fabs(gap) < 1e-7 * (ra + rb)) continue; /* a tie: either answer is right */
         int got = vp_kind_overlap(kinds[a], ra, qa, ta, kinds[b], rb, qb, tb);
         if (got != (gap < 0)) {
-            fprintf(stderr, "kinds %d, %d: gap %.17g but vp_kind_overlap says %d\n", a, b, gap, got);
+            fprintf(stderr, "kinds %d, %d: gap %.17g but vp_kind_overlap says %d\n", a, b, gap,
+                    got);
             exit(1);
         }
         /* symmetric */
@@ -192,7 +196,8 @@ static void test_kind_overlap_superball_octahedron(void) {
     const double s = pow(3.0, -0.25);
     int proven_in = 0, proven_apart = 0;
     for (int it = 0; it < 4000; it++) {
-        double rb = 1.0, ro = 0.4 + 0.8 * urand(), qo[4], qb[4] = {0, 0, 0, 1}, tb[3] = {0, 0, 0}, to[3];
+        double rb = 1.0, ro = 0.4 + 0.8 * urand(), qo[4], qb[4] = {0, 0, 0, 1}, tb[3] = {0, 0, 0},
+               to[3];
         rand_quat(qo);
         double dir[3], n = 0;
         for (int k = 0; k < 3; k++) dir[k] = urand() - 0.5, n += dir[k] * dir[k];
@@ -217,7 +222,8 @@ static void test_kind_overlap_superball_octahedron(void) {
         for (int f = 0; f < oct->nfaces && !apart; f++) {
             double nw[3], h = 0, off = 0;
             for (int k = 0; k < 3; k++)
-                nw[k] = m[k][0] * oct->normals[f][0] + m[k][1] * oct->normals[f][1] + m[k][2] * oct->normals[f][2];
+                nw[k] = m[k][0] * oct->normals[f][0] + m[k][1] * oct->normals[f][1] +
+                        m[k][2] * oct->normals[f][2];
             for (int k = 0; k < 3; k++) h += pow(fabs(nw[k]), 4.0 / 3.0);
             h = s * pow(h, 3.0 / 4.0); /* max over the superball of x . n (dual norm) */
             for (int k = 0; k < 3; k++) off += nw[k] * to[k];
@@ -233,7 +239,8 @@ static void test_kind_overlap_superball_octahedron(void) {
         proven_in += vin;
         proven_apart += apart;
     }
-    fprintf(stderr, "   %d proven overlaps, %d proven separations agree\n", proven_in, proven_apart);
+    fprintf(stderr, "   %d proven overlaps, %d proven separations agree\n", proven_in,
+            proven_apart);
     ASSERT_GE(proven_in, 300);
     ASSERT_GE(proven_apart, 300);
 }
@@ -356,8 +363,9 @@ static void test_ternary_pairwise(void) {
             pairs++;
         }
     }
-    fprintf(stderr, "   %zu particles (%zu cubes, %zu cuboids, %zu spheres), %zu pairs within "
-                    "reach, %zu within 1e-3, least gap %.3g of the smaller radius\n",
+    fprintf(stderr,
+            "   %zu particles (%zu cubes, %zu cuboids, %zu spheres), %zu pairs within "
+            "reach, %zu within 1e-3, least gap %.3g of the smaller radius\n",
             n, per[0], per[1], per[2], pairs, close, worst);
     ASSERT_GE(worst, -1e-6);
     ASSERT_GE(close, 50); /* grown spheres touch their neighbours: the test is not vacuous */

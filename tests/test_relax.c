@@ -33,9 +33,10 @@ static void test_relax(void) {
         if (v > ww) ww = v;
     }
     double frac = vp_particles_volume(p) / (4.0 / 3.0 * M_PI);
-    fprintf(stderr, "   relax: %d sweeps, worst overlap %.3g (reported %.3g), worst wall %.3g, "
-                    "fraction %.4f (%.4f before), radius scale %.4f\n", rep.sweeps, wo,
-            rep.max_overlap, ww, frac, rep.initial_fraction, rep.radius_scale);
+    fprintf(stderr,
+            "   relax: %d sweeps, worst overlap %.3g (reported %.3g), worst wall %.3g, "
+            "fraction %.4f (%.4f before), radius scale %.4f\n",
+            rep.sweeps, wo, rep.max_overlap, ww, frac, rep.initial_fraction, rep.radius_scale);
     ASSERT_LE(wo, 1e-6);
     ASSERT_LE(rep.max_overlap, 1e-6);
     ASSERT_LE(ww, 1e-12);
@@ -105,9 +106,10 @@ static void test_relax_margin_gap(void) {
                 least_gap = fmin(least_gap, e - rad(p, i) - rad(p, j));
             }
         }
-        fprintf(stderr, "   relax, fit %s, margin 0.06, gap 0.012: least margin %.9g, least gap "
-                        "%.9g, radius scale %.4f, %d sweeps\n", f ? "center" : "inside",
-                least_margin, least_gap, rep.radius_scale, rep.sweeps);
+        fprintf(stderr,
+                "   relax, fit %s, margin 0.06, gap 0.012: least margin %.9g, least gap "
+                "%.9g, radius scale %.4f, %d sweeps\n",
+                f ? "center" : "inside", least_margin, least_gap, rep.radius_scale, rep.sweeps);
         ASSERT_TRUE(least_margin >= 0.06 * (1 - 1e-9));
         ASSERT_TRUE(least_gap >= 0.012 * (1 - 1e-6));
         ASSERT_TRUE(least_gap < 0.012 * 1.05); /* some pair at the gap: it shaped the packing */

@@ -168,7 +168,8 @@ static void test_spheres_channels_coverage_depth_id() {
         ASSERT_NEAR(got / want_px, 1.0, 0.02);
     }
     size_t covered = 0, ided = 0;
-    for (size_t q = 0; q < e.a.size(); q++) covered += e.a[q] > 0, ided += e.id[q] != VP_RENDER_BACKGROUND_ID;
+    for (size_t q = 0; q < e.a.size(); q++)
+        covered += e.a[q] > 0, ided += e.id[q] != VP_RENDER_BACKGROUND_ID;
     ASSERT_EQ_INT(covered, ided);
     vp_particles_destroy(p);
     vp_context_destroy(ctx);

@@ -42,7 +42,8 @@ static void test_rng_quat(void) {
         ASSERT_NEAR(m4[i] / n, 0.125, 5 * sqrt(7.0 / 128 - 1.0 / 64) * se);
     }
     ASSERT_NEAR(m22 / n, 1.0 / 24, 5 * 0.25 * se);
-    fprintf(stderr, "   E q^2 %.4f %.4f %.4f %.4f (1/4), E q^4 %.4f (1/8), E q0^2 q3^2 %.4f (1/24)\n",
+    fprintf(stderr,
+            "   E q^2 %.4f %.4f %.4f %.4f (1/4), E q^4 %.4f (1/8), E q0^2 q3^2 %.4f (1/24)\n",
             m2[0] / n, m2[1] / n, m2[2] / n, m2[3] / n, m4[0] / n, m22 / n);
 }
 
@@ -66,23 +67,28 @@ static void test_size_dist(void) {
         m1 /= n;
         m3 /= n;
         double sd = sqrt(sum2 / n - m1 * m1);
-        fprintf(stderr, "   %s: mean %.5f (expected %.5f), E[r^3] %.6f (%.6f), sd %.5f, range "
-                        "[%.4f, %.4f]\n", specs[s], m1, vp_size_dist_mean(&d), m3,
-                vp_size_dist_mean_cube(&d), sd, lo, hi);
+        fprintf(stderr,
+                "   %s: mean %.5f (expected %.5f), E[r^3] %.6f (%.6f), sd %.5f, range "
+                "[%.4f, %.4f]\n",
+                specs[s], m1, vp_size_dist_mean(&d), m3, vp_size_dist_mean_cube(&d), sd, lo, hi);
         ASSERT_NEAR(m1, vp_size_dist_mean(&d), 0.005 * vp_size_dist_mean(&d));
         ASSERT_NEAR(m3, vp_size_dist_mean_cube(&d), 0.01 * vp_size_dist_mean_cube(&d));
         ASSERT_GE(lo, vp_size_dist_min(&d));
         ASSERT_LE(hi, vp_size_dist_max(&d));
-        if (s == 1) ASSERT_NEAR(sd, 0.2 / sqrt(12.0), 0.002);        /* uniform */
-        if (s == 2) ASSERT_NEAR(sd, 0.05, 0.05 * 0.03);               /* lognormal SD */
+        if (s == 1) ASSERT_NEAR(sd, 0.2 / sqrt(12.0), 0.002); /* uniform */
+        if (s == 2) ASSERT_NEAR(sd, 0.05, 0.05 * 0.03);       /* lognormal SD */
         if (s == 3) ASSERT_NEAR(m1, 0.3, 0.003);
     }
     /* formatted as written (shortest text that reads back exactly), and
      * parsed back to the same values */
-    const char *fmt[] = {"0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6",
-                         "0.1000000000000000055511151231257827", "1e-30"};
-    const char *want[] = {"0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6",
-                          "0.1", "1e-30"};
+    const char *fmt[] = {"0.004493",
+                         "uniform:0.1:0.3",
+                         "lognormal:0.2:0.05",
+                         "list:0.1:0.2:0.6",
+                         "0.1000000000000000055511151231257827",
+                         "1e-30"};
+    const char *want[] = {
+        "0.004493", "uniform:0.1:0.3", "lognormal:0.2:0.05", "list:0.1:0.2:0.6", "0.1", "1e-30"};
     for (int s = 0; s < 6; s++) {
         vp_size_dist d, e;
         char buf[256];
@@ -94,18 +100,19 @@ static void test_size_dist(void) {
         ASSERT_TRUE(e.kind == d.kind && e.a == d.a && e.b == d.b && e.n == d.n);
         for (unsigned i = 0; i < d.n; i++) ASSERT_TRUE(e.values[i] == d.values[i]);
     }
-    {   /* radii are stored as float: every size a law draws must be a normal float */
+    { /* radii are stored as float: every size a law draws must be a normal float */
         vp_size_dist d;
         const char *ok[] = {"1.2e-38", "3.4e38", "uniform:1.2e-38:1", "lognormal:1:0.5"};
-        const char *no[] = {"1e-38", "1e-300", "3.5e38", "uniform:1e-39:1", "list:1:1e-40",
-                            "lognormal:1e-37:1e-36", "uniform:1:1e39"};
+        const char *no[] = {"1e-38",           "1e-300",       "3.5e38",
+                            "uniform:1e-39:1", "list:1:1e-40", "lognormal:1e-37:1e-36",
+                            "uniform:1:1e39"};
         for (int i = 0; i < 4; i++) ASSERT_OK(ctx, vp_size_dist_parse(ctx, ok[i], &d));
         for (int i = 0; i < 7; i++) {
             ASSERT_EQ_INT(vp_size_dist_parse(ctx, no[i], &d), VP_ERR_INVALID_ARGUMENT);
             ASSERT_TRUE(strstr(vp_context_message(ctx), "float") != NULL);
         }
     }
-    {   /* a value that needs 17 digits keeps them */
+    { /* a value that needs 17 digits keeps them */
         vp_size_dist d, e;
         char buf[64];
         ASSERT_OK(ctx, vp_size_dist_parse(ctx, "0.30000000000000004", &d));
@@ -114,8 +121,9 @@ static void test_size_dist(void) {
         ASSERT_OK(ctx, vp_size_dist_parse(ctx, buf, &e));
         ASSERT_TRUE(e.a == d.a);
     }
-    const char *bad[] = {"-1", "0", "uniform:0.3:0.1", "gamma:1:2", "lognormal:0.1", "list:",
-                         "uniform:0.1:nan", "1e400", "0.1x"};
+    const char *bad[] = {
+        "-1",    "0",   "uniform:0.3:0.1", "gamma:1:2", "lognormal:0.1", "list:", "uniform:0.1:nan",
+        "1e400", "0.1x"};
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         vp_size_dist d;
         ASSERT_EQ_INT(vp_size_dist_parse(ctx, bad[i], &d), VP_ERR_INVALID_ARGUMENT);

@@ -44,7 +44,8 @@ static void test_rsa_binary_grow(void) {
      * measured against the particles present when it grew (pass 1 only) */
     for (size_t i = 0; i < 40; i++) {
         double gap = 0.5 - (fabs(p->positions[3 * i]) > fabs(p->positions[3 * i + 1])
-                                ? fabs(p->positions[3 * i]) : fabs(p->positions[3 * i + 1]));
+                                ? fabs(p->positions[3 * i])
+                                : fabs(p->positions[3 * i + 1]));
         double z = 0.5 - fabs(p->positions[3 * i + 2]);
         if (z < gap) gap = z;
         gap -= rad(p, i);
@@ -52,7 +53,8 @@ static void test_rsa_binary_grow(void) {
             if (j == i) continue;
             const double *a = p->positions + 3 * i, *b = p->positions + 3 * j;
             double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                            (a[2] - b[2]) * (a[2] - b[2])) - rad(p, i) - rad(p, j);
+                            (a[2] - b[2]) * (a[2] - b[2])) -
+                       rad(p, i) - rad(p, j);
             if (d < gap) gap = d;
         }
         ASSERT_LE(gap, 1e-6);
@@ -94,8 +96,7 @@ static void test_rsa_retries_and_no_fit(void) {
     ps.retries = 200;
     ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
     fprintf(stderr, "   radius 0.2, count 20: placed %zu, stop %d, tries %llu\n",
-            rep.passes[0].placed, (int)rep.passes[0].stop,
-            (unsigned long long)rep.passes[0].tries);
+            rep.passes[0].placed, (int)rep.passes[0].stop, (unsigned long long)rep.passes[0].tries);
     ASSERT_TRUE(rep.passes[0].placed > 0 && rep.passes[0].placed < 20);
     ASSERT_TRUE(rep.passes[0].stop != VP_RSA_STOP_COUNT);
     ASSERT_LE(worst_overlap(p), 0.0);
@@ -190,8 +191,8 @@ static void test_rsa_count_near_saturation(void) {
     vp_particles *p = NULL;
     vp_rsa_report rep;
     ASSERT_OK(ctx, vp_pack_rsa(ctx, c, &rp, &p, &rep));
-    fprintf(stderr, "   %zu of %zu placed, stop %d, %llu tries\n", p->count, n, (int)rep.passes[0].stop,
-            (unsigned long long)rep.passes[0].tries);
+    fprintf(stderr, "   %zu of %zu placed, stop %d, %llu tries\n", p->count, n,
+            (int)rep.passes[0].stop, (unsigned long long)rep.passes[0].tries);
     ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_COUNT);
     ASSERT_EQ_INT(p->count, n);
     ASSERT_LE(worst_overlap(p), 0.0);
@@ -291,8 +292,8 @@ static void test_rsa_grid_order(void) {
         /* consecutive particles against particles half a pass apart */
         double r0 = mean_step(p, 0, n1, 1) / mean_step(p, 0, n1, n1 / 2),
                r1 = mean_step(p, n1, p->count, 1) / mean_step(p, n1, p->count, N2 / 2);
-        fprintf(stderr, "   grow %d: %zu + %d spheres; step ratio %.3f, %.3f\n", grow, n1, N2,
-                r0, r1);
+        fprintf(stderr, "   grow %d: %zu + %d spheres; step ratio %.3f, %.3f\n", grow, n1, N2, r0,
+                r1);
         if (grow) ASSERT_GE(r0, 0.8);
         else ASSERT_LE(r0, 0.3);
         ASSERT_LE(r1, 0.6); /* the spheres placed after its last split follow in placement order */

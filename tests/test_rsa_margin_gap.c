@@ -49,8 +49,8 @@ static double min_wall(const vp_particles *p, int sphere, double h, vp_fit fit) 
     return best;
 }
 
-static vp_result pack(const vp_container *c, const char *law, size_t count, int grow,
-                      vp_fit fit, double margin, double gap, vp_particles **p) {
+static vp_result pack(const vp_container *c, const char *law, size_t count, int grow, vp_fit fit,
+                      double margin, double gap, vp_particles **p) {
     vp_rsa_pass ps;
     vp_rsa_pass_init(&ps);
     ps.maximal = count == 0;
@@ -95,9 +95,10 @@ static void run_case(int sphere, vp_fit fit, const char *law, size_t count, int 
     size_t pairs, outside, pairs2, outside2;
     check_with(c, p, fit, margin, gap, &pairs, &outside);
     check_with(c, p, fit, 1.01 * margin, 1.01 * gap, &pairs2, &outside2);
-    fprintf(stderr, "   %s fit %s %s %s%s: %zu spheres; smallest gap %.7f (asked %.3f), smallest "
-                    "wall distance %.7f (asked %.3f); check: %zu pairs, %zu outside; with 1 %% "
-                    "more: %zu, %zu\n",
+    fprintf(stderr,
+            "   %s fit %s %s %s%s: %zu spheres; smallest gap %.7f (asked %.3f), smallest "
+            "wall distance %.7f (asked %.3f); check: %zu pairs, %zu outside; with 1 %% "
+            "more: %zu, %zu\n",
             sphere ? "sphere" : "box", fit == VP_FIT_INSIDE ? "inside" : "center", law,
             count ? "count" : "max", grow ? " grow" : "", p->count, g, gap, w, margin, pairs,
             outside, pairs2, outside2);

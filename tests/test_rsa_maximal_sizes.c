@@ -59,8 +59,9 @@ static void test_sample_below(void) {
             v_t = v_t / n - m_t * m_t;
             v_r = v_r / n - m_r * m_r;
             double se = sqrt((v_t + v_r) / n);
-            fprintf(stderr, "   %s below %.4f: mean %.6f (truncated draw), %.6f (rejection), "
-                            "se %.2g; range [%.6f, %.6f]\n",
+            fprintf(stderr,
+                    "   %s below %.4f: mean %.6f (truncated draw), %.6f (rejection), "
+                    "se %.2g; range [%.6f, %.6f]\n",
                     LAWS[l], c, m_t, m_r, se, worst_lo, worst_hi);
             ASSERT_LE(worst_hi, c);
             ASSERT_GE(worst_lo, lo);
@@ -110,8 +111,8 @@ static void probe(const vp_particles *p, int sphere, double h, vp_fit fit, doubl
     }
 }
 
-static vp_result pack(const vp_container *c, const char *law, size_t count, vp_fit fit,
-                      int threads, vp_particles **p, vp_rsa_report *rep) {
+static vp_result pack(const vp_container *c, const char *law, size_t count, vp_fit fit, int threads,
+                      vp_particles **p, vp_rsa_report *rep) {
     vp_rsa_pass ps;
     vp_rsa_pass_init(&ps);
     ps.maximal = count == 0;
@@ -148,7 +149,8 @@ static void check_maximal(int sphere, vp_fit fit) {
             double ri = p->radii[i];
             rlo = fmin(rlo, ri);
             rhi = fmax(rhi, ri);
-            worst_wall = fmin(worst_wall, wall_room(sphere, h, a, fit) - (fit == VP_FIT_INSIDE ? ri : 0));
+            worst_wall =
+                fmin(worst_wall, wall_room(sphere, h, a, fit) - (fit == VP_FIT_INSIDE ? ri : 0));
             for (size_t j = i + 1; j < p->count; j++) {
                 const double *b = p->positions + 3 * j;
                 double dd = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
@@ -188,9 +190,11 @@ static void check_maximal(int sphere, vp_fit fit) {
         /* an early stop (half the count) leaves room: the probe can fail */
         ASSERT_OK(ctx, pack(c, LAWS[l], p->count / 2, fit, 1, &q, &rep2));
         probe(q, sphere, h, fit, rmin, 60000, &adm2, &fr2);
-        fprintf(stderr, "   %s %s fit %s: %zu spheres, radii [%.5f, %.5f] (law [%.5f, %.5f]), "
-                        "a count pass stopped by retries, %zu: mean %.5f (law %.5f, se %.2g), %zu of them in it; worst overlap %.2g, wall %.2g; "
-                        "probes %zu admissible, %zu free (half the count: %zu free)\n",
+        fprintf(stderr,
+                "   %s %s fit %s: %zu spheres, radii [%.5f, %.5f] (law [%.5f, %.5f]), "
+                "a count pass stopped by retries, %zu: mean %.5f (law %.5f, se %.2g), %zu of them "
+                "in it; worst overlap %.2g, wall %.2g; "
+                "probes %zu admissible, %zu free (half the count: %zu free)\n",
                 LAWS[l], sphere ? "sphere" : "box", fit == VP_FIT_INSIDE ? "inside" : "center",
                 p->count, rlo, rhi, rmin, rmax, n0, m, vp_size_dist_mean(&d), se, found, worst,
                 worst_wall, adm, fr, fr2);

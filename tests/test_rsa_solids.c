@@ -72,8 +72,8 @@ static size_t sampled_overlaps(const vp_particles *p, const vp_polyhedron *poly)
             double e = p->radii[i] + p->radii[j], dist = vp_norm3(d);
             if (dist >= e) continue;
             /* grid over the box around the midpoint of the surfaces' reach */
-            double m[3], h = 0.5 * (e - dist) + 0.25 * (p->radii[i] < p->radii[j] ? p->radii[i]
-                                                                                     : p->radii[j]);
+            double m[3], h = 0.5 * (e - dist) +
+                             0.25 * (p->radii[i] < p->radii[j] ? p->radii[i] : p->radii[j]);
             double t = (p->radii[i] - 0.5 * (e - dist)) / dist;
             for (int k = 0; k < 3; k++) m[k] = a[k] + t * d[k];
             int found = 0;
@@ -137,8 +137,8 @@ static void expect_clean(vp_container *c, const vp_particles *p, double h) {
 static void test_random_orientations(void) {
     vp_container *c = box(0.5);
     for (int s = VP_SHAPE_TETRAHEDRON; s < VP_SHAPE_COUNT; s++) {
-        vp_particles *p = pack(c, (vp_shape)s, VP_ORIENT_RANDOM, VP_OVERLAP_EXACT, 0.07, 300, 0,
-                               0, 3);
+        vp_particles *p =
+            pack(c, (vp_shape)s, VP_ORIENT_RANDOM, VP_OVERLAP_EXACT, 0.07, 300, 0, 0, 3);
         ASSERT_TRUE(p->has_orient && p->orients);
         ASSERT_EQ_INT(p->shape, s);
         ASSERT_GE(p->count, 100);
@@ -210,8 +210,8 @@ static void test_bbox_mode(void) {
  * neighbour or cross the wall (checked pair by pair here). */
 static void test_grow(void) {
     vp_container *c = box(0.5);
-    vp_particles *p = pack(c, VP_SHAPE_ICOSAHEDRON, VP_ORIENT_RANDOM, VP_OVERLAP_EXACT, 0.05, 150,
-                           0, 1, 9);
+    vp_particles *p =
+        pack(c, VP_SHAPE_ICOSAHEDRON, VP_ORIENT_RANDOM, VP_OVERLAP_EXACT, 0.05, 150, 0, 1, 9);
     ASSERT_EQ_INT(p->count, 150);
     expect_clean(c, p, 0.5);
     const vp_polyhedron *poly = vp_shape_polyhedron(VP_SHAPE_ICOSAHEDRON);

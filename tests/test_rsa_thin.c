@@ -52,9 +52,9 @@ static void thin_case(void) {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     fprintf(stderr, "   %s%s %g, r %g: placed %zu of %zu, stop %d, %llu tries, peak %ld MB\n",
-            thin_shape == VP_SHAPE_CUBE ? "cubes, " : "", thin_needle ? "needle" : "slab", t, r, rep.passes[0].placed, thin_n,
-            (int)rep.passes[0].stop, (unsigned long long)rep.passes[0].tries,
-            ru.ru_maxrss / 1024);
+            thin_shape == VP_SHAPE_CUBE ? "cubes, " : "", thin_needle ? "needle" : "slab", t, r,
+            rep.passes[0].placed, thin_n, (int)rep.passes[0].stop,
+            (unsigned long long)rep.passes[0].tries, ru.ru_maxrss / 1024);
     ASSERT_EQ_INT(rep.passes[0].stop, VP_RSA_STOP_COUNT);
     ASSERT_EQ_INT(p->count, thin_n);
     if (thin_shape == VP_SHAPE_SPHERE) ASSERT_LE(worst_overlap(p), 0.0);

@@ -188,13 +188,13 @@ int main(void) {
     ASSERT_EQ_INT(vp_shape_mesh(ctx, VP_SHAPE_SPHERE, 0, NULL, NULL, &nv, NULL, &nf, NULL, &ni),
                   VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "sphere") != NULL);
-    ASSERT_EQ_INT(vp_shape_mesh(ctx, VP_SHAPE_SUPERBALL, 0.3, NULL, NULL, &nv, NULL, &nf, NULL,
-                                &ni),
-                  VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(
+        vp_shape_mesh(ctx, VP_SHAPE_SUPERBALL, 0.3, NULL, NULL, &nv, NULL, &nf, NULL, &ni),
+        VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(strstr(vp_context_message(ctx), "not 0.3") != NULL);
-    ASSERT_EQ_INT(vp_shape_mesh(ctx, VP_SHAPE_SUPERBALL, NAN, NULL, NULL, &nv, NULL, &nf, NULL,
-                                &ni),
-                  VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(
+        vp_shape_mesh(ctx, VP_SHAPE_SUPERBALL, NAN, NULL, NULL, &nv, NULL, &nf, NULL, &ni),
+        VP_ERR_INVALID_ARGUMENT);
     ASSERT_EQ_INT(vp_shape_mesh(ctx, VP_SHAPE_MESH, 0, NULL, NULL, &nv, NULL, &nf, NULL, &ni),
                   VP_ERR_INVALID_ARGUMENT);
     ASSERT_EQ_INT(vp_shape_mesh(ctx, (vp_shape)40, 0, NULL, NULL, &nv, NULL, &nf, NULL, &ni),

@@ -53,20 +53,45 @@ static void closed_form(vp_shape s, int *v, int *e, int *f, double *vol, double 
     double a;
     switch (s) {
     case VP_SHAPE_TETRAHEDRON:
-        a = sqrt(8.0 / 3.0); *v = 4; *e = 6; *f = 4;
-        *vol = a * a * a / (6 * sqrt(2.0)); *inr = a / sqrt(24.0); break;
+        a = sqrt(8.0 / 3.0);
+        *v = 4;
+        *e = 6;
+        *f = 4;
+        *vol = a * a * a / (6 * sqrt(2.0));
+        *inr = a / sqrt(24.0);
+        break;
     case VP_SHAPE_CUBE:
-        a = 2 / sqrt(3.0); *v = 8; *e = 12; *f = 6;
-        *vol = a * a * a; *inr = a / 2; break;
+        a = 2 / sqrt(3.0);
+        *v = 8;
+        *e = 12;
+        *f = 6;
+        *vol = a * a * a;
+        *inr = a / 2;
+        break;
     case VP_SHAPE_OCTAHEDRON:
-        a = sqrt(2.0); *v = 6; *e = 12; *f = 8;
-        *vol = sqrt(2.0) / 3 * a * a * a; *inr = a / sqrt(6.0); break;
+        a = sqrt(2.0);
+        *v = 6;
+        *e = 12;
+        *f = 8;
+        *vol = sqrt(2.0) / 3 * a * a * a;
+        *inr = a / sqrt(6.0);
+        break;
     case VP_SHAPE_DODECAHEDRON:
-        a = 4 / (sqrt(3.0) * (1 + r5)); *v = 20; *e = 30; *f = 12;
-        *vol = (15 + 7 * r5) / 4 * a * a * a; *inr = a / 2 * sqrt((25 + 11 * r5) / 10); break;
+        a = 4 / (sqrt(3.0) * (1 + r5));
+        *v = 20;
+        *e = 30;
+        *f = 12;
+        *vol = (15 + 7 * r5) / 4 * a * a * a;
+        *inr = a / 2 * sqrt((25 + 11 * r5) / 10);
+        break;
     default: /* icosahedron */
-        a = 1 / sin(2 * PI_ / 5); *v = 12; *e = 30; *f = 20;
-        *vol = 5 * (3 + r5) / 12 * a * a * a; *inr = phi * phi * a / (2 * sqrt(3.0)); break;
+        a = 1 / sin(2 * PI_ / 5);
+        *v = 12;
+        *e = 30;
+        *f = 20;
+        *vol = 5 * (3 + r5) / 12 * a * a * a;
+        *inr = phi * phi * a / (2 * sqrt(3.0));
+        break;
     }
 }
 
@@ -74,13 +99,15 @@ static int has_vertex(const vp_polyhedron *p, double x, double y, double z) {
     double n = sqrt(x * x + y * y + z * z);
     for (int i = 0; i < p->nverts; ++i)
         if (fabs(p->verts[i][0] - x / n) < 1e-14 && fabs(p->verts[i][1] - y / n) < 1e-14 &&
-            fabs(p->verts[i][2] - z / n) < 1e-14) return 1;
+            fabs(p->verts[i][2] - z / n) < 1e-14)
+            return 1;
     return 0;
 }
 
 static void test_polyhedra(void) {
     const double phi = 0.5 * (1 + sqrt(5.0));
-    for (int s = VP_SHAPE_TETRAHEDRON; s <= VP_SHAPE_ICOSAHEDRON; ++s) { /* the Archimedean: test_archimedean.c */
+    for (int s = VP_SHAPE_TETRAHEDRON; s <= VP_SHAPE_ICOSAHEDRON;
+         ++s) { /* the Archimedean: test_archimedean.c */
         const vp_polyhedron *p = vp_shape_polyhedron((vp_shape)s);
         ASSERT_TRUE(p != NULL);
         ASSERT_TRUE(p == vp_shape_polyhedron((vp_shape)s));
@@ -108,12 +135,14 @@ static void test_polyhedra(void) {
         double a0 = -1;
         for (int e = 0; e < p->nedges; ++e) {
             double d[3];
-            for (int c = 0; c < 3; ++c) d[c] = p->verts[p->edges[e][0]][c] - p->verts[p->edges[e][1]][c];
+            for (int c = 0; c < 3; ++c)
+                d[c] = p->verts[p->edges[e][0]][c] - p->verts[p->edges[e][1]][c];
             if (a0 < 0) a0 = vp_norm3(d);
             ASSERT_NEAR(vp_norm3(d), a0, 1e-14);
             for (int f = 0; f < e; ++f) /* unique */
-                ASSERT_TRUE(!((p->edges[f][0] == p->edges[e][0] && p->edges[f][1] == p->edges[e][1]) ||
-                              (p->edges[f][0] == p->edges[e][1] && p->edges[f][1] == p->edges[e][0])));
+                ASSERT_TRUE(
+                    !((p->edges[f][0] == p->edges[e][0] && p->edges[f][1] == p->edges[e][1]) ||
+                      (p->edges[f][0] == p->edges[e][1] && p->edges[f][1] == p->edges[e][0])));
         }
 
         /* faces: unit outward normals, planar, CCW seen from outside; every
@@ -131,25 +160,33 @@ static void test_polyhedra(void) {
             ASSERT_NEAR(h, p->inradius, 1e-14); /* regular solid: all faces at the inradius */
             for (int i = 0; i < p->nverts; ++i) ASSERT_LE(vp_dot3(n, p->verts[i]), h + 1e-14);
             for (int m = 0; m < k; ++m) {
-                const double *v0 = p->verts[p->faces[f][m]], *v1 = p->verts[p->faces[f][(m + 1) % k]],
+                const double *v0 = p->verts[p->faces[f][m]],
+                             *v1 = p->verts[p->faces[f][(m + 1) % k]],
                              *v2 = p->verts[p->faces[f][(m + 2) % k]];
                 ASSERT_NEAR(vp_dot3(n, v0), h, 1e-14);
                 double e1[3], e2[3], c[3];
-                for (int q = 0; q < 3; ++q) { e1[q] = v1[q] - v0[q]; e2[q] = v2[q] - v1[q]; }
+                for (int q = 0; q < 3; ++q) {
+                    e1[q] = v1[q] - v0[q];
+                    e2[q] = v2[q] - v1[q];
+                }
                 vp_cross3(e1, e2, c);
                 ASSERT_TRUE(vp_dot3(c, n) > 1e-6); /* convex CCW turn about the outward normal */
                 used[p->faces[f][m]][p->faces[f][(m + 1) % k]]++;
             }
             for (int m = 1; m + 1 < k; ++m)
                 vol2 += vp_det3(p->verts[p->faces[f][0]], p->verts[p->faces[f][m]],
-                                p->verts[p->faces[f][m + 1]]) / 6.0;
+                                p->verts[p->faces[f][m + 1]]) /
+                        6.0;
         }
         ASSERT_NEAR(vol2, vol, 1e-13);
         int directed = 0;
         for (int i = 0; i < p->nverts; ++i)
             for (int j = 0; j < p->nverts; ++j) {
                 ASSERT_TRUE(used[i][j] <= 1);
-                if (used[i][j]) { ASSERT_EQ_INT(used[j][i], 1); ++directed; }
+                if (used[i][j]) {
+                    ASSERT_EQ_INT(used[j][i], 1);
+                    ++directed;
+                }
             }
         ASSERT_EQ_INT(directed, 2 * p->nedges);
     }
@@ -220,7 +257,8 @@ static void test_sat_simple(void) {
      * (1,1,1)/sqrt(3)-free directions: the gap along x is only found via
      * the cross product of the two edge directions. */
     {
-        double qz[4] = {0, 0, sin(PI_ / 8), cos(PI_ / 8)}, qx[4] = {sin(PI_ / 8), 0, 0, cos(PI_ / 8)};
+        double qz[4] = {0, 0, sin(PI_ / 8), cos(PI_ / 8)},
+               qx[4] = {sin(PI_ / 8), 0, 0, cos(PI_ / 8)};
         /* A's edge along z sits at y = edge/sqrt(2); B's edge along x at
          * y = -edge/sqrt(2) relative to B. Touch when B is at y = 2*edge/sqrt(2). */
         double t[3] = {0, 2 * edge / sqrt(2.0) + 0.01, 0};
@@ -259,9 +297,16 @@ static int edges_hit(const vp_polyhedron *a, double va[][3], const vp_polyhedron
         double lo = 0, hi = 1, dir[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
         for (int f = 0; f < b->nfaces && lo <= hi; ++f) {
             double num = db[f] - vp_dot3(nb[f], p0), den = vp_dot3(nb[f], dir);
-            if (fabs(den) < 1e-300) { if (num < 0) hi = -1; continue; }
+            if (fabs(den) < 1e-300) {
+                if (num < 0) hi = -1;
+                continue;
+            }
             double t = num / den;
-            if (den > 0) { if (t < hi) hi = t; } else { if (t > lo) lo = t; }
+            if (den > 0) {
+                if (t < hi) hi = t;
+            } else {
+                if (t > lo) lo = t;
+            }
         }
         if (lo <= hi) return 1;
     }
@@ -270,7 +315,9 @@ static int edges_hit(const vp_polyhedron *a, double va[][3], const vp_polyhedron
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static double urand(void) {
-    rng_state ^= rng_state << 13; rng_state ^= rng_state >> 7; rng_state ^= rng_state << 17;
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
     return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
 }
 static void rand_quat(double q[4]) {
@@ -288,7 +335,7 @@ static double face_only(const vp_polyhedron *a, double va[][3], double na[][3],
     double best = -HUGE_VAL;
     for (int pass = 0; pass < 2; ++pass) {
         const vp_polyhedron *p = pass ? b : a;
-        double (*n)[3] = pass ? nb : na;
+        double(*n)[3] = pass ? nb : na;
         for (int f = 0; f < p->nfaces; ++f) {
             double alo = HUGE_VAL, ahi = -HUGE_VAL, blo = HUGE_VAL, bhi = -HUGE_VAL;
             for (int i = 0; i < a->nverts; ++i) {
@@ -344,13 +391,14 @@ static void test_sat_random(void) {
         posed_checked++;
         if (fabs(s) <= 1e-3) continue;
         double va[VP_POLY_MAX_VERTS][3], vb[VP_POLY_MAX_VERTS][3];
-        double na[VP_POLY_MAX_FACES][3], nb[VP_POLY_MAX_FACES][3], da[VP_POLY_MAX_FACES], db[VP_POLY_MAX_FACES];
+        double na[VP_POLY_MAX_FACES][3], nb[VP_POLY_MAX_FACES][3], da[VP_POLY_MAX_FACES],
+            db[VP_POLY_MAX_FACES];
         posed(a, ka, qa, ta, va, na, da);
         posed(b, kb, qb, tb, vb, nb, db);
         int ref = edges_hit(a, va, b, nb, db) || edges_hit(b, vb, a, na, da);
         if (ref != (s < 0)) {
-            fprintf(stderr, "   mismatch it=%d %s/%s sep=%.6g ref overlap=%d\n", it, vp_shape_name(sa),
-                    vp_shape_name(sb), s, ref);
+            fprintf(stderr, "   mismatch it=%d %s/%s sep=%.6g ref overlap=%d\n", it,
+                    vp_shape_name(sa), vp_shape_name(sb), s, ref);
         }
         ASSERT_EQ_INT(ref, s < 0);
         if (s > 0) {
@@ -362,8 +410,10 @@ static void test_sat_random(void) {
         }
         ++checked;
     }
-    fprintf(stderr, "   random SAT pairs checked: %d (overlapping %d, separated %d, of which %d "
-                    "only by an edge-edge axis)\n", checked, overl, sep, edge_only);
+    fprintf(stderr,
+            "   random SAT pairs checked: %d (overlapping %d, separated %d, of which %d "
+            "only by an edge-edge axis)\n",
+            checked, overl, sep, edge_only);
     ASSERT_TRUE(checked > 3000);
     ASSERT_EQ_INT(posed_checked, 6000);
     ASSERT_TRUE(overl > 500);
@@ -390,10 +440,12 @@ static void test_sat_contact(void) {
             double mid = 0.5 * (lo + hi), tb[3];
             for (int c = 0; c < 3; ++c) tb[c] = ta[c] + mid * dir[c] / dn;
             double va[VP_POLY_MAX_VERTS][3], vb[VP_POLY_MAX_VERTS][3];
-            double na[VP_POLY_MAX_FACES][3], nb[VP_POLY_MAX_FACES][3], da[VP_POLY_MAX_FACES], db[VP_POLY_MAX_FACES];
+            double na[VP_POLY_MAX_FACES][3], nb[VP_POLY_MAX_FACES][3], da[VP_POLY_MAX_FACES],
+                db[VP_POLY_MAX_FACES];
             posed(a, 1, qa, ta, va, na, da);
             posed(b, 1, qb, tb, vb, nb, db);
-            if (edges_hit(a, va, b, nb, db) || edges_hit(b, vb, a, na, da)) lo = mid; else hi = mid;
+            if (edges_hit(a, va, b, nb, db) || edges_hit(b, vb, a, na, da)) lo = mid;
+            else hi = mid;
         }
         double tb[3];
         for (int c = 0; c < 3; ++c) tb[c] = ta[c] + hi * dir[c] / dn;
@@ -442,12 +494,13 @@ static void test_cube_center(void) {
         if (mode == 0) {
             dist = 3.0 * urand() * (ka + kb);
         } else { /* the distance to the cube along dir grows: bisect onto a threshold */
-            double target = (mode == 1 ? kb * b->inradius : kb) * (1.0 + ((it / 3) % 2 ? 1e-7 : -1e-7));
+            double target =
+                (mode == 1 ? kb * b->inradius : kb) * (1.0 + ((it / 3) % 2 ? 1e-7 : -1e-7));
             double lo = 0.0, hi = 4.0 * (ka + kb);
             for (int k = 0; k < 200; ++k) {
                 double mid = 0.5 * (lo + hi), d[3];
                 for (int c = 0; c < 3; ++c) d[c] = mid * dir[c] / dn;
-                if (cube_point_dist((const double (*)[3])R, h, d) < target) lo = mid;
+                if (cube_point_dist((const double(*)[3])R, h, d) < target) lo = mid;
                 else hi = mid;
             }
             dist = 0.5 * (lo + hi);
@@ -457,7 +510,7 @@ static void test_cube_center(void) {
             tb[c] = ta[c] + dist * dir[c] / dn;
             d[c] = tb[c] - ta[c];
         }
-        int v = vp_cube_center_test((const double (*)[3])R, h, d, kb * b->inradius, kb, 1e-14);
+        int v = vp_cube_center_test((const double(*)[3])R, h, d, kb * b->inradius, kb, 1e-14);
         ++n;
         if (v < 0) continue;
         double s = vp_poly_separation(cube, ka, qa, ta, b, kb, qb, tb);

@@ -47,12 +47,14 @@ static double point_box(const double p[3], const box *b) {
     return sqrt(e2);
 }
 
-static double seg_seg(const double p1[3], const double q1[3], const double p2[3], const double q2[3]) {
+static double seg_seg(const double p1[3], const double q1[3], const double p2[3],
+                      const double q2[3]) {
     double d1[3], d2[3], r[3];
     for (int k = 0; k < 3; k++) d1[k] = q1[k] - p1[k], d2[k] = q2[k] - p2[k], r[k] = p1[k] - p2[k];
     double a = 0, e = 0, f = 0, b = 0, c = 0;
     for (int k = 0; k < 3; k++)
-        a += d1[k] * d1[k], e += d2[k] * d2[k], f += d2[k] * r[k], b += d1[k] * d2[k], c += d1[k] * r[k];
+        a += d1[k] * d1[k], e += d2[k] * d2[k], f += d2[k] * r[k], b += d1[k] * d2[k],
+            c += d1[k] * r[k];
     double den = a * e - b * b, s = den > 1e-300 ? (b * f - c * e) / den : 0.0, t;
     s = s < 0 ? 0 : s > 1 ? 1 : s;
     t = (b * s + f) / e;
@@ -145,8 +147,9 @@ static void test_cubes_keep_margin_and_gap(void) {
             if (d < G * (1 + 1e-3)) at_gap++;
         }
     }
-    fprintf(stderr, "   %zu cubes: least wall distance %.9f (margin %g), least distance %.9f "
-                    "(gap %g), %zu of %zu near pairs within 1e-3 of the gap\n",
+    fprintf(stderr,
+            "   %zu cubes: least wall distance %.9f (margin %g), least distance %.9f "
+            "(gap %g), %zu of %zu near pairs within 1e-3 of the gap\n",
             p->count, least_wall, M, least_gap, G, at_gap, near);
     ASSERT_GE(least_wall, M - 1e-9);
     ASSERT_GE(least_gap, G - 1e-9);
@@ -231,8 +234,9 @@ static void test_mixed_gap_and_mesh_refused(void) {
     /* a mesh shape with a gap: refused, one line */
     static const double v[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0},
                                    {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
-    static const uint32_t t[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    static const uint32_t t[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                      {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                      {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     vp_mesh_shape *m;
     ASSERT_OK(ctx, vp_mesh_shape_from_mesh(ctx, "box.obj", &v[0][0], 8, &t[0][0], 12, &m));
     rp.npasses = 1;

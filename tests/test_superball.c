@@ -54,7 +54,8 @@ static void surface_point(double p, const double u[3], double x[3]) {
  * at bounding radius s: < 1 inside */
 static double world_gauge(double p, double s, const double q[4], const double t[3],
                           const double x[3]) {
-    double d[3] = {x[0] - t[0], x[1] - t[1], x[2] - t[2]}, qi[4] = {-q[0], -q[1], -q[2], q[3]}, l[3];
+    double d[3] = {x[0] - t[0], x[1] - t[1], x[2] - t[2]}, qi[4] = {-q[0], -q[1], -q[2], q[3]},
+           l[3];
     vp_quat_rotate(qi, d, l);
     double R = circumradius(p);
     for (int k = 0; k < 3; k++) l[k] *= R / s;
@@ -62,8 +63,8 @@ static double world_gauge(double p, double s, const double q[4], const double t[
 }
 /* The least gauge of B over a grid of A's surface (n x n per cube face):
  * below 1, a point of A is inside B. */
-static double min_gauge_over(double p, double sa, const double qa[4], const double ta[3],
-                             double sb, const double qb[4], const double tb[3], int n) {
+static double min_gauge_over(double p, double sa, const double qa[4], const double ta[3], double sb,
+                             const double qb[4], const double tb[3], int n) {
     double best = HUGE_VAL;
     for (int f = 0; f < 6; f++)
         for (int i = 0; i <= n; i++)
@@ -108,7 +109,7 @@ static void test_volume(void) {
     }
     ASSERT_NEAR(vp_superball_raw_volume(1.0), 4 * PI_ / 3, 1e-12);
     ASSERT_NEAR(vp_superball_raw_volume(0.5), 4.0 / 3.0, 1e-12); /* the octahedron */
-    ASSERT_NEAR(vp_superball_raw_volume(1000.0), 8.0, 0.02);      /* nearly the cube */
+    ASSERT_NEAR(vp_superball_raw_volume(1000.0), 8.0, 0.02);     /* nearly the cube */
     /* the public entry */
     ASSERT_NEAR(vp_shape_unit_volume_param(VP_SHAPE_SUPERBALL, 2.0), vp_superball_unit_volume(2.0),
                 0);
@@ -173,8 +174,9 @@ static void test_overlap(void) {
                 decided++;
             }
         }
-        fprintf(stderr, "   p %-4g %d of 600 pairs decided by sampling (%d overlapping), GJK agrees\n",
-                p, decided, over);
+        fprintf(stderr,
+                "   p %-4g %d of 600 pairs decided by sampling (%d overlapping), GJK agrees\n", p,
+                decided, over);
         ASSERT_GE(decided, 400);
     }
     /* p = 1 is the sphere: GJK against the distance of the centres */
@@ -224,14 +226,17 @@ static double bis(double (*f)(double, double), double p, double lo, double hi) {
     double flo = f(p, lo);
     for (int i = 0; i < 300; i++) {
         double m = 0.5 * (lo + hi), fm = f(p, m);
-        if ((fm < 0) == (flo < 0)) lo = m, flo = fm; else hi = m;
+        if ((fm < 0) == (flo < 0)) lo = m, flo = fm;
+        else hi = m;
     }
     return 0.5 * (lo + hi);
 }
 static double eq3(double p, double s) {
     return pow(s + pow(2, -1 / (2 * p)), 2 * p) + pow(s, 2 * p) + pow(2, -2 * p) - 1;
 }
-static double eq8(double p, double s) { return pow(s + pow(2, -1 / (2 * p)), 2 * p) + 2 * pow(s, 2 * p) - 1; }
+static double eq8(double p, double s) {
+    return pow(s + pow(2, -1 / (2 * p)), 2 * p) + 2 * pow(s, 2 * p) - 1;
+}
 static double eq16(double p, double q) {
     double l = pow(3, -1 / (2 * p)), s = pow(1 - 2 * pow(q, 2 * p), 1 / (2 * p));
     return pow(l + q, 2 * p) + pow(fabs(s - l), 2 * p) + pow(fabs(l - q), 2 * p) - 1;
@@ -259,7 +264,11 @@ static double paper_density(vp_superball_family f, double p) {
         double qmax = pow(0.5, 1 / (2 * p)), prev = eq16(p, 1e-12), lo = 0, hi = 0;
         for (int i = 1; i <= 100000; i++) {
             double q = qmax * i / 100000, v = eq16(p, q);
-            if ((v < 0) != (prev < 0)) { lo = qmax * (i - 1) / 100000; hi = q; break; }
+            if ((v < 0) != (prev < 0)) {
+                lo = qmax * (i - 1) / 100000;
+                hi = q;
+                break;
+            }
             prev = v;
         }
         double q = bis(eq16, p, lo, hi), s = pow(1 - 2 * pow(q, 2 * p), 1 / (2 * p));
@@ -274,7 +283,11 @@ static void paper_o1(double p, double a[3][3]) {
     double qmax = pow(0.5, 1 / (2 * p)), prev = eq16(p, 1e-12), lo = 0, hi = 0;
     for (int i = 1; i <= 100000; i++) {
         double q = qmax * i / 100000, v = eq16(p, q);
-        if ((v < 0) != (prev < 0)) { lo = qmax * (i - 1) / 100000; hi = q; break; }
+        if ((v < 0) != (prev < 0)) {
+            lo = qmax * (i - 1) / 100000;
+            hi = q;
+            break;
+        }
         prev = v;
     }
     double q = bis(eq16, p, lo, hi), s = pow(1 - 2 * pow(q, 2 * p), 1 / (2 * p)),
@@ -369,8 +382,10 @@ static void test_lattices(void) {
                 paper_o1(p, pa);
                 int pc_ = 0;
                 double pl = least_half_gauge(p, pa, &pc_);
-                fprintf(stderr, "   p %-5g printed O1 %.6f least gauge %.6f: scaled to contact "
-                                "%.6f\n", p, want, pl, want * pl * pl * pl);
+                fprintf(stderr,
+                        "   p %-5g printed O1 %.6f least gauge %.6f: scaled to contact "
+                        "%.6f\n",
+                        p, want, pl, want * pl * pl * pl);
                 ASSERT_LE(pl, 1.0 - 1e-4);
                 ASSERT_LE(d, want);
                 ASSERT_GE(d, want * pl * pl * pl - 1e-12);
@@ -390,9 +405,11 @@ static void test_lattices(void) {
         ASSERT_NEAR(got, best, 1e-12);
         /* the basis the packer uses: bounding radius 1, its fraction */
         vp_lattice_basis lb;
-        ASSERT_EQ_INT(vp_lattice_basis_get_param(VP_SHAPE_SUPERBALL, p, VP_LATTICE_DEFAULT, &lb), 0);
+        ASSERT_EQ_INT(vp_lattice_basis_get_param(VP_SHAPE_SUPERBALL, p, VP_LATTICE_DEFAULT, &lb),
+                      0);
         ASSERT_NEAR(lb.fraction, got, 1e-9);
-        ASSERT_NEAR(vp_lattice_fraction_param(VP_SHAPE_SUPERBALL, p, VP_LATTICE_DENSEST), got, 1e-9);
+        ASSERT_NEAR(vp_lattice_fraction_param(VP_SHAPE_SUPERBALL, p, VP_LATTICE_DENSEST), got,
+                    1e-9);
     }
     /* the values the paper quotes at p = 1.5, 2, 3, 10 (C1) */
     ASSERT_NEAR(paper_density(VP_SB_C1, 2.0), 0.8699, 1e-4);
@@ -453,7 +470,8 @@ static void test_rsa_packing(void) {
         for (size_t a = 0; a < p->count; a++)
             for (size_t b = a + 1; b < p->count; b++) {
                 const double *xa = p->positions + 3 * a, *xb = p->positions + 3 * b;
-                double ra = p->radii[a], rb = p->radii[b], d[3] = {xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]};
+                double ra = p->radii[a], rb = p->radii[b],
+                       d[3] = {xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]};
                 if (vp_norm3(d) >= ra + rb) continue;
                 near_pairs++;
                 double qa[4], qb[4];
@@ -481,9 +499,10 @@ static void test_rsa_packing(void) {
         }
         vp_check_report rep;
         ASSERT_OK(ctx, vp_check_particles(ctx, c, p, NULL, &rep));
-        fprintf(stderr, "   p %g: %zu grown superballs, fraction %.4f, %d close pairs, least "
-                        "gauge %.6f, wall excursion %.3g, check: %zu overlapping, %zu outside, "
-                        "mean contacts %.2f\n",
+        fprintf(stderr,
+                "   p %g: %zu grown superballs, fraction %.4f, %d close pairs, least "
+                "gauge %.6f, wall excursion %.3g, check: %zu overlapping, %zu outside, "
+                "mean contacts %.2f\n",
                 ps[i], p->count, rep.fraction, near_pairs, worst, out, rep.overlapping_pairs,
                 rep.outside, rep.mean_contacts);
         ASSERT_GE(worst, 1.0 - 1e-6);

@@ -21,20 +21,17 @@
 static char tmpdir[256];
 static char err[512];
 
-static void tmp_path(char *out, size_t n, const char *name)
-{
+static void tmp_path(char *out, size_t n, const char *name) {
     snprintf(out, n, "%s/%s", tmpdir, name);
 }
 
-static int file_exists(const char *p)
-{
+static int file_exists(const char *p) {
     FILE *f = fopen(p, "rb");
     if (f) fclose(f);
     return f != NULL;
 }
 
-static unsigned char *slurp(const char *p, size_t *n)
-{
+static unsigned char *slurp(const char *p, size_t *n) {
     FILE *f = fopen(p, "rb");
     ASSERT_TRUE(f != NULL);
     fseek(f, 0, SEEK_END);
@@ -48,8 +45,7 @@ static unsigned char *slurp(const char *p, size_t *n)
     return b;
 }
 
-static int same_bytes(const char *a, const char *b)
-{
+static int same_bytes(const char *a, const char *b) {
     size_t na, nb;
     unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
     int same = na == nb && memcmp(x, y, na) == 0;
@@ -60,20 +56,19 @@ static int same_bytes(const char *a, const char *b)
 
 /* Axis-aligned cube [c-h, c+h]^3 as 12 triangles (optionally missing the +z
  * face: 10 triangles). */
-static size_t make_cube(const double c[3], double h, double v[24], uint32_t t[36], int open)
-{
+static size_t make_cube(const double c[3], double h, double v[24], uint32_t t[36], int open) {
     for (int i = 0; i < 8; ++i) {
         v[3 * i + 0] = c[0] + ((i & 1) ? h : -h);
         v[3 * i + 1] = c[1] + ((i & 2) ? h : -h);
         v[3 * i + 2] = c[2] + ((i & 4) ? h : -h);
     }
     static const uint32_t f[12][3] = {
-        {0, 2, 1}, {1, 2, 3},           /* -z */
-        {0, 1, 4}, {1, 5, 4},           /* -y */
-        {0, 4, 2}, {2, 4, 6},           /* -x */
-        {1, 3, 5}, {3, 7, 5},           /* +x */
-        {2, 6, 3}, {3, 6, 7},           /* +y */
-        {4, 5, 6}, {5, 7, 6},           /* +z */
+        {0, 2, 1}, {1, 2, 3}, /* -z */
+        {0, 1, 4}, {1, 5, 4}, /* -y */
+        {0, 4, 2}, {2, 4, 6}, /* -x */
+        {1, 3, 5}, {3, 7, 5}, /* +x */
+        {2, 6, 3}, {3, 6, 7}, /* +y */
+        {4, 5, 6}, {5, 7, 6}, /* +z */
     };
     size_t n = open ? 10 : 12;
     for (size_t i = 0; i < n; ++i)
@@ -82,8 +77,7 @@ static size_t make_cube(const double c[3], double h, double v[24], uint32_t t[36
 }
 
 /* Regular icosahedron of circumradius r centred at c. */
-static void make_icosahedron(const double c[3], double r, double v[36], uint32_t t[60])
-{
+static void make_icosahedron(const double c[3], double r, double v[36], uint32_t t[60]) {
     const double phi = (1.0 + sqrt(5.0)) / 2.0, s = r / sqrt(1.0 + phi * phi);
     const double raw[12][3] = {{-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0},
                                {0, -1, phi}, {0, 1, phi}, {0, -1, -phi}, {0, 1, -phi},
@@ -98,15 +92,14 @@ static void make_icosahedron(const double c[3], double r, double v[36], uint32_t
         for (int k = 0; k < 3; ++k) t[3 * i + k] = f[i][k];
 }
 
-static double sample_at(const vpv_levelset *ls, const double c[3], double dx, double dy, double dz)
-{
+static double sample_at(const vpv_levelset *ls, const double c[3], double dx, double dy,
+                        double dz) {
     double p[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
     return vpv_levelset_sample(ls, p);
 }
 
 /* Closed cube far from the origin (Dutch RD-like coordinates). */
-static void test_cube_levelset(void)
-{
+static void test_cube_levelset(void) {
     const double c[3] = {155000.25, 463000.5, 12.0};
     double v[24];
     uint32_t t[36];
@@ -120,7 +113,8 @@ static void test_cube_levelset(void)
     vpv_levelset_get_info(ls, &info);
     /* far from the origin the transform's round trip costs ~1e-11 */
     ASSERT_NEAR(info.voxel_size, 0.05, 1e-9);
-    fprintf(stderr, "   cube: volume %g band %g active %zu inside %zu\n", info.volume, info.interior_band, info.active_voxels, info.inside_voxels);
+    fprintf(stderr, "   cube: volume %g band %g active %zu inside %zu\n", info.volume,
+            info.interior_band, info.active_voxels, info.inside_voxels);
     ASSERT_NEAR(info.volume, 8.0, 8.0 * 0.02);
     ASSERT_EQ_INT(info.leaked, 0);
     ASSERT_TRUE(strcmp(info.name, "container") == 0);
@@ -128,8 +122,8 @@ static void test_cube_levelset(void)
     ASSERT_NEAR(info.bmax[1], c[1] + 1.0, 0.3);
     ASSERT_TRUE(info.active_voxels > 0 && info.inside_voxels > 0);
 
-    ASSERT_TRUE(sample_at(ls, c, 0, 0, 0) < 0);          /* deep inside: -background */
-    ASSERT_TRUE(sample_at(ls, c, 1.5, 0, 0) > 0);        /* outside */
+    ASSERT_TRUE(sample_at(ls, c, 0, 0, 0) < 0);   /* deep inside: -background */
+    ASSERT_TRUE(sample_at(ls, c, 1.5, 0, 0) > 0); /* outside */
     ASSERT_NEAR(sample_at(ls, c, 0.9, 0.1, -0.2), -0.1, 0.01);
     ASSERT_NEAR(sample_at(ls, c, 0.1, 1.05, 0.3), 0.05, 0.01);
     double p[3] = {c[0] + 0.93, c[1] + 0.1, c[2]}, g[3];
@@ -156,23 +150,20 @@ static void test_cube_levelset(void)
 /* Icosahedron of circumradius r about c voxelized at 0.03 (band 3 voxels);
  * checks the volume against the exact one. v and t receive the mesh. */
 static vpv_levelset *icosahedron_levelset(const double c[3], double r, int renormalize,
-                                          double v[36], uint32_t t[60])
-{
+                                          double v[36], uint32_t t[60]) {
     make_icosahedron(c, r, v, t);
     vpv_levelset *ls = NULL;
-    ASSERT_OK_MSG(err, vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, NULL, NULL, &ls, err,
-                                              sizeof err));
+    ASSERT_OK_MSG(err, vpv_levelset_from_mesh(v, 12, t, 20, 0.03, 3.0, 3.0, renormalize, NULL, NULL,
+                                              &ls, err, sizeof err));
     return ls;
 }
 
-static double icosahedron_volume(double r)
-{
+static double icosahedron_volume(double r) {
     const double a = r / sin(2.0 * M_PI / 5.0);
     return 5.0 / 12.0 * (3.0 + sqrt(5.0)) * a * a * a;
 }
 
-static void test_icosahedron_levelset(void)
-{
+static void test_icosahedron_levelset(void) {
     const double c[3] = {1.0, -2.0, 0.5}, r = 1.0;
     double v[36];
     uint32_t t[60];
@@ -192,8 +183,7 @@ static void test_icosahedron_levelset(void)
 /* Without renormalization a closed mesh's level set holds exact distances:
  * near a face's centre the distance is the plane distance, which trilinear
  * interpolation reproduces, inside and outside. */
-static void test_exact_distances_without_renormalization(void)
-{
+static void test_exact_distances_without_renormalization(void) {
     const double c[3] = {0.25, -0.5, 2.0}, r = 1.0;
     double v[36];
     uint32_t t[60];
@@ -223,7 +213,8 @@ static void test_exact_distances_without_renormalization(void)
                 state = state * 1664525u + 1013904223u;
                 u[k] = (state >> 8) / 16777216.0 - 0.5;
             }
-            for (int k = 0; k < 3; k++) q[k] = m[k] + 0.06 * u[0] * n[k] + 0.1 * (u[1] * e1[k] + u[2] * e2[k]);
+            for (int k = 0; k < 3; k++)
+                q[k] = m[k] + 0.06 * u[0] * n[k] + 0.1 * (u[1] * e1[k] + u[2] * e2[k]);
             double want = (q[0] - p0[0]) * n[0] + (q[1] - p0[1]) * n[1] + (q[2] - p0[2]) * n[2];
             double got = vpv_levelset_sample(ls, q);
             if (fabs(got - want) > worst) worst = fabs(got - want);
@@ -235,32 +226,39 @@ static void test_exact_distances_without_renormalization(void)
 }
 
 /* Bad inputs are refused with a code and a message. */
-static void test_mesh_bad_input(void)
-{
+static void test_mesh_bad_input(void) {
     const double c[3] = {0, 0, 0};
     double v[24];
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = (vpv_levelset *)1;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(
+        vpv_levelset_from_mesh(v, 8, t, nt, 0.0, 3, 3, 1, NULL, NULL, &ls, err, sizeof err),
+        VP_ERR_INVALID_ARGUMENT);
     ASSERT_TRUE(ls == NULL && err[0] != 0);
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(
+        vpv_levelset_from_mesh(v, 8, t, nt, NAN, 3, 3, 1, NULL, NULL, &ls, err, sizeof err),
+        VP_ERR_INVALID_ARGUMENT);
     t[5] = 8;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ_INT(
+        vpv_levelset_from_mesh(v, 8, t, nt, 0.1, 3, 3, 1, NULL, NULL, &ls, err, sizeof err),
+        VP_ERR_INVALID_ARGUMENT);
     t[5] = 3;
-    ASSERT_EQ_INT(vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, 1, NULL, NULL, &ls, err, sizeof err), VP_ERR_OUT_OF_MEMORY);
+    ASSERT_EQ_INT(
+        vpv_levelset_from_mesh(v, 8, t, nt, 1e-6, 3, 3, 1, NULL, NULL, &ls, err, sizeof err),
+        VP_ERR_OUT_OF_MEMORY);
     ASSERT_TRUE(strstr(err, "2000000") != NULL);
     ASSERT_TRUE(strchr(err, '\n') == NULL);
 }
 
-static void test_open_mesh(void)
-{
+static void test_open_mesh(void) {
     const double c[3] = {0, 0, 0};
     double v[24];
     uint32_t t[36];
     size_t nt = make_cube(c, 1.0, v, t, 1);
     vpv_levelset *ls = NULL;
-    int rc = vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err);
+    int rc =
+        vpv_levelset_from_mesh(v, 8, t, nt, 0.05, 3.0, 3.0, 1, NULL, NULL, &ls, err, sizeof err);
     fprintf(stderr, "   open cube: rc %d\n", rc);
     if (rc == VP_OK) {
         vpv_levelset_info info;
@@ -282,8 +280,7 @@ typedef struct {
     int n;
 } sample_job;
 
-static void *sample_thread(void *arg)
-{
+static void *sample_thread(void *arg) {
     sample_job *j = arg;
     for (int rep = 0; rep < 20; ++rep)
         for (int i = 0; i < j->n; ++i) j->out[i] = vpv_levelset_sample(j->ls, j->pts + 3 * i);
@@ -296,8 +293,7 @@ static void *sample_thread(void *arg)
  * error, and, once the cut lies past the grid list, named as truncated.
  * OpenVDB's own reader, given such a file, looped for minutes (a level set
  * cut at 5000 bytes) or described the grid as empty. */
-static void check_cuts(const char *path, int points)
-{
+static void check_cuts(const char *path, int points) {
     size_t n;
     unsigned char *bytes = slurp(path, &n);
     ASSERT_TRUE(bytes != NULL && n > 2000);
@@ -330,8 +326,7 @@ static void check_cuts(const char *path, int points)
     free(bytes);
 }
 
-static void test_levelset_roundtrip(void)
-{
+static void test_levelset_roundtrip(void) {
     const double c[3] = {3.0, 4.0, 5.0};
     double v[36];
     uint32_t t[60];
@@ -417,8 +412,7 @@ static void test_levelset_roundtrip(void)
     vpv_levelset_destroy(ls);
 }
 
-static void test_read_errors(void)
-{
+static void test_read_errors(void) {
     char p[300];
     vpv_levelset *ls = (vpv_levelset *)1;
     tmp_path(p, sizeof p, "missing.vdb");
@@ -445,7 +439,8 @@ static void test_read_errors(void)
         fprintf(stderr, "   fog: %s\n", err);
         ASSERT_TRUE(strstr(err, "'density' [fog volume, float]") != NULL);
         ASSERT_TRUE(strstr(err, "gaffer_smoke_fog.vdb: ") != NULL);
-        ASSERT_EQ_INT(vpv_levelset_read(fog, "density", &ls, err, sizeof err), VP_ERR_NOT_LEVEL_SET);
+        ASSERT_EQ_INT(vpv_levelset_read(fog, "density", &ls, err, sizeof err),
+                      VP_ERR_NOT_LEVEL_SET);
         fprintf(stderr, "   fog by name: %s\n", err);
         ASSERT_EQ_INT(vpv_points_read(fog, &pp, err, sizeof err), VP_ERR_FORMAT);
     } else {
@@ -453,8 +448,7 @@ static void test_read_errors(void)
     }
 }
 
-static void test_shared_levelsets(void)
-{
+static void test_shared_levelsets(void) {
     const char *sph = VP_SHARED_CONTAINERS "/gaffer_ls_sphere.vdb";
     vpv_levelset *ls = NULL;
     vpv_levelset_info info;
@@ -462,7 +456,8 @@ static void test_shared_levelsets(void)
         ASSERT_OK_MSG(err, vpv_levelset_read(sph, NULL, &ls, err, sizeof err));
         vpv_levelset_get_info(ls, &info);
         const double vol = 4.0 / 3.0 * M_PI * 27.0;
-        fprintf(stderr, "   sphere: volume %g (%g) band %g\n", info.volume, vol, info.interior_band);
+        fprintf(stderr, "   sphere: volume %g (%g) band %g\n", info.volume, vol,
+                info.interior_band);
         ASSERT_NEAR(info.volume, vol, 0.03 * vol);
         ASSERT_EQ_INT(info.leaked, 0);
         ASSERT_TRUE(strcmp(info.name, "ls_sphere") == 0);
@@ -496,8 +491,7 @@ static void test_shared_levelsets(void)
     }
 }
 
-static void free_particles(vp_particles *p)
-{
+static void free_particles(vp_particles *p) {
     if (!p) return;
     free(p->positions);
     free(p->radii);
@@ -506,15 +500,13 @@ static void free_particles(vp_particles *p)
     free(p);
 }
 
-static double json_number(const char *json, const char *key)
-{
+static double json_number(const char *json, const char *key) {
     const char *s = strstr(json, key);
     ASSERT_TRUE(s != NULL);
     return strtod(s + strlen(key), NULL);
 }
 
-static void check_points_file(const char *path, const vp_particles *src, int full)
-{
+static void check_points_file(const char *path, const vp_particles *src, int full) {
     char *json = NULL;
     ASSERT_OK_MSG(err, vpv_describe_file(path, 1, &json, err, sizeof err));
     const double voxel = json_number(json, "\"voxel_size\":");
@@ -522,7 +514,8 @@ static void check_points_file(const char *path, const vp_particles *src, int ful
     ASSERT_TRUE(strstr(json, "\"points\":1000") != NULL);
     ASSERT_TRUE(strstr(json, "{\"name\":\"orient\",\"type\":\"quats\"") != NULL);
     ASSERT_TRUE(strstr(json, full ? "{\"name\":\"P\",\"type\":\"vec3s\",\"codec\":\"null\"}"
-                                   : "{\"name\":\"P\",\"type\":\"vec3s\",\"codec\":\"fxpt16\"}") != NULL);
+                                  : "{\"name\":\"P\",\"type\":\"vec3s\",\"codec\":\"fxpt16\"}") !=
+                NULL);
     free(json);
 
     vp_particles *r = NULL;
@@ -530,7 +523,8 @@ static void check_points_file(const char *path, const vp_particles *src, int ful
     ASSERT_EQ_INT(r->count, src->count);
     ASSERT_EQ_INT(r->capacity, src->count);
     ASSERT_EQ_INT(r->group_count, src->group_count);
-    for (unsigned g = 0; g < src->group_count; ++g) ASSERT_TRUE(strcmp(r->group_names[g], src->group_names[g]) == 0);
+    for (unsigned g = 0; g < src->group_count; ++g)
+        ASSERT_TRUE(strcmp(r->group_names[g], src->group_names[g]) == 0);
     ASSERT_TRUE(r->radii && r->orients && r->groups && r->has_orient);
     ASSERT_EQ_INT(r->shape, VP_SHAPE_CUBE);
     const double tol = full ? voxel * 1e-6 : voxel / 65535.0 * 2.0;
@@ -551,27 +545,26 @@ static void check_points_file(const char *path, const vp_particles *src, int ful
         double dx = r->positions[3 * i] - src->positions[3 * i],
                dy = r->positions[3 * i + 1] - src->positions[3 * i + 1],
                dz = r->positions[3 * i + 2] - src->positions[3 * i + 2];
-        ASSERT_LE(sqrt(dx * dx + dy * dy + dz * dz), r->position_error * (1 + 1e-9) + 1e-12 * voxel);
+        ASSERT_LE(sqrt(dx * dx + dy * dy + dz * dz),
+                  r->position_error * (1 + 1e-9) + 1e-12 * voxel);
     }
     if (full) ASSERT_LE(r->position_error, voxel * 2e-7); /* float: 2^-24 per component */
     else ASSERT_NEAR(r->position_error, sqrt(3.0) * voxel / 65535.0, 1e-6 * voxel / 65535.0);
-    fprintf(stderr, "   %s: voxel %g, max position error %g (tol %g)\n", full ? "full" : "fxpt16", voxel,
-            maxerr, tol);
+    fprintf(stderr, "   %s: voxel %g, max position error %g (tol %g)\n", full ? "full" : "fxpt16",
+            voxel, maxerr, tol);
     free_particles(r);
 }
 
 /* A particle set of n particles with positions allocated (uninitialised);
  * the caller frees p->positions. */
-static void particles_with_positions(vp_particles *p, size_t n)
-{
+static void particles_with_positions(vp_particles *p, size_t n) {
     memset(p, 0, sizeof *p);
     p->count = p->capacity = n;
     p->positions = malloc(sizeof(double) * 3 * n);
     ASSERT_TRUE(p->positions != NULL);
 }
 
-static void test_points(void)
-{
+static void test_points(void) {
     enum { N = 1000 };
     vp_particles p;
     particles_with_positions(&p, N);
@@ -591,7 +584,10 @@ static void test_points(void)
         p.positions[3 * i + 2] = -5.0 + 3.0 * rand() / RAND_MAX;
         p.radii[i] = 0.1f + 0.01f * (float)(i % 7);
         double q[4], n = 0;
-        for (int k = 0; k < 4; ++k) { q[k] = (double)rand() / RAND_MAX - 0.5; n += q[k] * q[k]; }
+        for (int k = 0; k < 4; ++k) {
+            q[k] = (double)rand() / RAND_MAX - 0.5;
+            n += q[k] * q[k];
+        }
         for (int k = 0; k < 4; ++k) p.orients[4 * i + k] = (float)(q[k] / sqrt(n));
         p.groups[i] = (uint16_t)(i % 3 == 0 ? 0 : (i % 5 == 0 ? 2 : 1));
     }
@@ -653,7 +649,10 @@ static void test_points(void)
     p.orients = NULL;
     p.groups = NULL;
     p.uniform_radius = 0.25f;
-    p.uniform_orient[0] = 0; p.uniform_orient[1] = 0; p.uniform_orient[2] = 0.6f; p.uniform_orient[3] = 0.8f;
+    p.uniform_orient[0] = 0;
+    p.uniform_orient[1] = 0;
+    p.uniform_orient[2] = 0.6f;
+    p.uniform_orient[3] = 0.8f;
     p.group_count = 1;
     strcpy(p.group_names[0], "all");
     p.shape = VP_SHAPE_SPHERE;
@@ -663,7 +662,8 @@ static void test_points(void)
     ASSERT_OK_MSG(err, vpv_points_read(a, &r, err, sizeof err));
     ASSERT_EQ_INT(r->count, N);
     ASSERT_TRUE(r->radii == NULL && r->uniform_radius == 0.25f);
-    ASSERT_TRUE(r->orients == NULL && r->has_orient == 1 && r->uniform_orient[2] == 0.6f && r->uniform_orient[3] == 0.8f);
+    ASSERT_TRUE(r->orients == NULL && r->has_orient == 1 && r->uniform_orient[2] == 0.6f &&
+                r->uniform_orient[3] == 0.8f);
     ASSERT_TRUE(r->groups == NULL && r->group_count == 1 && strcmp(r->group_names[0], "all") == 0);
     ASSERT_EQ_INT(r->shape, VP_SHAPE_SPHERE);
     free_particles(r);
@@ -698,8 +698,7 @@ static void test_points(void)
 
 /* n^3 spheres of radius r on a simple cubic grid of spacing 2r (each
  * touching its neighbours), centred on c. */
-static void touching_cubes(vp_particles *p, int n, float r, double c)
-{
+static void touching_cubes(vp_particles *p, int n, float r, double c) {
     particles_with_positions(p, (size_t)n * n * n);
     p->uniform_radius = r;
     p->shape = VP_SHAPE_SPHERE;
@@ -716,8 +715,7 @@ static void touching_cubes(vp_particles *p, int n, float r, double c)
 /* Writes p, reads it back, and returns the largest distance a position
  * moved; *pe gets the reader's position_error. */
 static double roundtrip_error(const char *path, const vp_particles *p, const vp_write_params *wp,
-                              double *pe)
-{
+                              double *pe) {
     ASSERT_OK_MSG(err, vpv_points_write(path, p, wp, err, sizeof err));
     vp_particles *r = NULL;
     ASSERT_OK_MSG(err, vpv_points_read(path, &r, err, sizeof err));
@@ -741,8 +739,7 @@ static double roundtrip_error(const char *path, const vp_particles *p, const vp_
  * radius and put 55 spheres of radius 2e-11 on one point. The writer must
  * write float P instead, or refuse, and never store positions whose error
  * exceeds VP_POSITION_ERROR_LIMIT of the smallest radius. */
-static void test_points_tiny_radii(void)
-{
+static void test_points_tiny_radii(void) {
     char path[300];
     tmp_path(path, sizeof path, "tiny.vdb");
     vp_write_report rep;
@@ -757,7 +754,8 @@ static void test_points_tiny_radii(void)
     wp.full_precision = 0;
     memset(&rep, 0xff, sizeof rep);
     double moved = roundtrip_error(path, &p, &wp, &pe);
-    fprintf(stderr, "   r 2e-8: moved %g, position error %g, voxel %g\n", moved, pe, rep.voxel_size);
+    fprintf(stderr, "   r 2e-8: moved %g, position error %g, voxel %g\n", moved, pe,
+            rep.voxel_size);
     ASSERT_LE(moved, VP_POSITION_ERROR_LIMIT * 2e-8);
     ASSERT_LE(pe, VP_POSITION_ERROR_LIMIT * 2e-8);
     ASSERT_EQ_INT(rep.full_precision, 1);
@@ -838,8 +836,7 @@ static void test_points_tiny_radii(void)
  * voxels of about 1e-3, a leaf node per particle spread over a unit box
  * (about 6 KB each): refused above max_memory before the grid is built,
  * written without a limit; dense particles under the same limit pass. */
-static void test_points_memory_estimate(void)
-{
+static void test_points_memory_estimate(void) {
     enum { N = 3000 };
     char path[300];
     tmp_path(path, sizeof path, "sparse.vdb");
@@ -858,7 +855,7 @@ static void test_points_memory_estimate(void)
     ASSERT_EQ_INT(rc, VP_ERR_OUT_OF_MEMORY);
     ASSERT_TRUE(strstr(err, "leaf nodes") != NULL);
     FILE *f = fopen(path, "rb");
-    ASSERT_TRUE(f == NULL); /* refused before anything was written */
+    ASSERT_TRUE(f == NULL);   /* refused before anything was written */
     wp.max_memory = 40000000; /* 40 MB: passes */
     ASSERT_OK_MSG(err, vpv_points_write(path, &p, &wp, err, sizeof err));
     wp.max_memory = 0; /* no limit */
@@ -876,8 +873,7 @@ static void test_points_memory_estimate(void)
     free(p.positions);
 }
 
-static void test_check_imprecise(void)
-{
+static void test_check_imprecise(void) {
     vp_context *ctx = NULL;
     ASSERT_OK(NULL, vp_context_create(&ctx));
     vp_container *c = NULL;
@@ -912,8 +908,7 @@ static void test_check_imprecise(void)
     vp_context_destroy(ctx);
 }
 
-static int thread_count(void)
-{
+static int thread_count(void) {
     FILE *f = fopen("/proc/self/status", "r");
     char line[256];
     int n = -1;
@@ -933,8 +928,7 @@ enum { SPREAD_N = 20000 };
 
 /* SPREAD_N points spread over many nodes, written to the temporary file
  * `name`; its path in f. */
-static void write_spread_points(const char *name, char *f, size_t flen)
-{
+static void write_spread_points(const char *name, char *f, size_t flen) {
     vp_particles p;
     particles_with_positions(&p, SPREAD_N);
     p.uniform_radius = 0.004f;
@@ -949,8 +943,7 @@ static void write_spread_points(const char *name, char *f, size_t flen)
     free(p.positions);
 }
 
-static void test_probe_after_tbb_work(void)
-{
+static void test_probe_after_tbb_work(void) {
     enum { N = SPREAD_N };
     char f[300];
     write_spread_points("probe_after_tbb.vdb", f, sizeof f);
@@ -986,35 +979,31 @@ static void test_probe_after_tbb_work(void)
  * without the forked check) rather than hanging in a child. */
 static _Atomic int busy_started, busy_release;
 
-static void nap_ms(long ms)
-{
+static void nap_ms(long ms) {
     struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
     nanosleep(&ts, NULL);
 }
 
-static int busy_keep_going(void *user)
-{
+static int busy_keep_going(void *user) {
     (void)user;
     busy_started = 1;
     while (!busy_release) nap_ms(1);
     return 1;
 }
 
-static void *busy_voxelize(void *arg)
-{
+static void *busy_voxelize(void *arg) {
     double v[24], c[3] = {0, 0, 0};
     uint32_t t[36];
     make_cube(c, 1.0, v, t, 0);
     vpv_levelset *ls = NULL;
     char e[256];
-    *(int *)arg = vpv_levelset_from_mesh(v, 8, t, 12, 0.02, 3, 3, 0, busy_keep_going, NULL, &ls,
-                                         e, sizeof e);
+    *(int *)arg =
+        vpv_levelset_from_mesh(v, 8, t, 12, 0.02, 3, 3, 0, busy_keep_going, NULL, &ls, e, sizeof e);
     vpv_levelset_destroy(ls);
     return NULL;
 }
 
-static void test_quiesce_while_tbb_busy(void)
-{
+static void test_quiesce_while_tbb_busy(void) {
     alarm(120); /* a hang here is the failure this test looks for */
     char f[300];
     write_spread_points("quiesce_busy.vdb", f, sizeof f);
@@ -1038,8 +1027,7 @@ static void test_quiesce_while_tbb_busy(void)
     alarm(0);
 }
 
-int main(void)
-{
+int main(void) {
     snprintf(tmpdir, sizeof tmpdir, "/tmp/test_vdb_bridge.XXXXXX");
     ASSERT_TRUE(mkdtemp(tmpdir) != NULL);
     vpv_init();

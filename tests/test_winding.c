@@ -47,16 +47,18 @@ static uint32_t midpoint(mesh *m, uint32_t a, uint32_t b) {
 static void icosphere(mesh *m, int n, double r, const double c[3]) {
     mesh u = {0};
     double t = (1 + sqrt(5.0)) / 2;
-    double base[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    double base[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                          {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                          {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
     for (int i = 0; i < 12; i++) {
-        double l = sqrt(base[i][0] * base[i][0] + base[i][1] * base[i][1] + base[i][2] * base[i][2]);
+        double l =
+            sqrt(base[i][0] * base[i][0] + base[i][1] * base[i][1] + base[i][2] * base[i][2]);
         add_vertex(&u, base[i][0] / l, base[i][1] / l, base[i][2] / l);
     }
-    static const uint32_t f[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
-                                      {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                      {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
-                                      {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    static const uint32_t f[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                      {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                      {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                      {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
     for (int i = 0; i < 20; i++) add_tri(&u, f[i][0], f[i][1], f[i][2]);
     for (int s = 0; s < n; s++) {
         mesh d = {0};
@@ -105,11 +107,13 @@ static void compare(const mesh *m, const uint8_t *rim, double span, double h, do
     double worst = 0;
     int wrong = 0;
     for (int i = 0; i < 400; i++) {
-        double q[3] = {span * (2 * urand() - 1), span * (2 * urand() - 1), span * (2 * urand() - 1)};
+        double q[3] = {span * (2 * urand() - 1), span * (2 * urand() - 1),
+                       span * (2 * urand() - 1)};
         double e = vp_winding_exact(m->v, m->t, m->nt, q), a = vp_winding_at(w, q), b;
         vp_winding_batch(w, q, 1, &b);
         worst = fmax(worst, fmax(fabs(a - e), fabs(b - e)));
-        if (fabs(e - 0.5) > margin) wrong += ((a >= 0.5) != (e >= 0.5)) + ((b >= 0.5) != (e >= 0.5));
+        if (fabs(e - 0.5) > margin)
+            wrong += ((a >= 0.5) != (e >= 0.5)) + ((b >= 0.5) != (e >= 0.5));
     }
     double out[512], pts[3 * 512], batch[512];
     for (int blk = 0; blk < 12; blk++) {
@@ -125,7 +129,8 @@ static void compare(const mesh *m, const uint8_t *rim, double span, double h, do
         for (int i = 0; i < 512; i += 5) {
             double e = vp_winding_exact(m->v, m->t, m->nt, pts + 3 * i);
             if (getenv("VP_DEBUG_WINDING") && fmax(fabs(out[i] - e), fabs(batch[i] - e)) > tol)
-                fprintf(stderr, "   block %d point %d: block %.4f batch %.4f exact %.4f at (%g %g %g)\n",
+                fprintf(stderr,
+                        "   block %d point %d: block %.4f batch %.4f exact %.4f at (%g %g %g)\n",
                         blk, i, out[i], batch[i], e, pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
             worst = fmax(worst, fmax(fabs(out[i] - e), fabs(batch[i] - e)));
             if (fabs(e - 0.5) > margin)
@@ -161,7 +166,9 @@ static void test_open_sphere(void) {
     size_t w = 0;
     uint8_t *rim = calloc(m.nt, 1);
     for (size_t t = 0; t < m.nt; t++) {
-        double z = (m.v[3 * m.t[3 * t] + 2] + m.v[3 * m.t[3 * t + 1] + 2] + m.v[3 * m.t[3 * t + 2] + 2]) / 3;
+        double z =
+            (m.v[3 * m.t[3 * t] + 2] + m.v[3 * m.t[3 * t + 1] + 2] + m.v[3 * m.t[3 * t + 2] + 2]) /
+            3;
         if (z > 0.8) continue; /* the cap */
         memmove(m.t + 3 * w, m.t + 3 * t, 3 * sizeof *m.t);
         rim[w] = z > 0.6; /* the triangles along the hole's rim, and a few more */

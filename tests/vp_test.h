@@ -14,19 +14,40 @@
 static int vp_test_failures __attribute__((unused)) = 0;
 
 
-#define ASSERT_TRUE(c) do { if (!(c)) { \
-    fprintf(stderr, "%s:%d: assertion failed: %s\n", __FILE__, __LINE__, #c); \
-    exit(1); } } while (0)
-#define ASSERT_EQ_INT(a, b) do { long long va_ = (long long)(a), vb_ = (long long)(b); \
-    if (va_ != vb_) { fprintf(stderr, "%s:%d: %s == %s failed: %lld != %lld\n", \
-    __FILE__, __LINE__, #a, #b, va_, vb_); exit(1); } } while (0)
-#define ASSERT_NEAR(a, b, tol) do { double va_ = (double)(a), vb_ = (double)(b); \
-    if (!(fabs(va_ - vb_) <= (tol))) { fprintf(stderr, \
-    "%s:%d: |%s - %s| <= %s failed: %.17g vs %.17g (diff %.3g)\n", \
-    __FILE__, __LINE__, #a, #b, #tol, va_, vb_, fabs(va_ - vb_)); exit(1); } } while (0)
-#define ASSERT_LE(a, b) do { double va_ = (double)(a), vb_ = (double)(b); \
-    if (!(va_ <= vb_)) { fprintf(stderr, "%s:%d: %s <= %s failed: %.17g > %.17g\n", \
-    __FILE__, __LINE__, #a, #b, va_, vb_); exit(1); } } while (0)
+#define ASSERT_TRUE(c)                                                                             \
+    do {                                                                                           \
+        if (!(c)) {                                                                                \
+            fprintf(stderr, "%s:%d: assertion failed: %s\n", __FILE__, __LINE__, #c);              \
+            exit(1);                                                                               \
+        }                                                                                          \
+    } while (0)
+#define ASSERT_EQ_INT(a, b)                                                                        \
+    do {                                                                                           \
+        long long va_ = (long long)(a), vb_ = (long long)(b);                                      \
+        if (va_ != vb_) {                                                                          \
+            fprintf(stderr, "%s:%d: %s == %s failed: %lld != %lld\n", __FILE__, __LINE__, #a, #b,  \
+                    va_, vb_);                                                                     \
+            exit(1);                                                                               \
+        }                                                                                          \
+    } while (0)
+#define ASSERT_NEAR(a, b, tol)                                                                     \
+    do {                                                                                           \
+        double va_ = (double)(a), vb_ = (double)(b);                                               \
+        if (!(fabs(va_ - vb_) <= (tol))) {                                                         \
+            fprintf(stderr, "%s:%d: |%s - %s| <= %s failed: %.17g vs %.17g (diff %.3g)\n",         \
+                    __FILE__, __LINE__, #a, #b, #tol, va_, vb_, fabs(va_ - vb_));                  \
+            exit(1);                                                                               \
+        }                                                                                          \
+    } while (0)
+#define ASSERT_LE(a, b)                                                                            \
+    do {                                                                                           \
+        double va_ = (double)(a), vb_ = (double)(b);                                               \
+        if (!(va_ <= vb_)) {                                                                       \
+            fprintf(stderr, "%s:%d: %s <= %s failed: %.17g > %.17g\n", __FILE__, __LINE__, #a, #b, \
+                    va_, vb_);                                                                     \
+            exit(1);                                                                               \
+        }                                                                                          \
+    } while (0)
 #define ASSERT_GE(a, b) ASSERT_LE(b, a)
 
 /* Runs fn in a child process bounded by `seconds` (SIGALRM) and, outside
@@ -37,7 +58,8 @@ static int vp_test_failures __attribute__((unused)) = 0;
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define VP_TEST_SANITIZED 1
 #elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) ||                         \
+    __has_feature(memory_sanitizer)
 #define VP_TEST_SANITIZED 1
 #endif
 #endif
@@ -55,7 +77,10 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
 static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long long bytes) {
     fflush(stderr);
     pid_t pid = fork();
-    if (pid < 0) { perror("fork"); exit(1); }
+    if (pid < 0) {
+        perror("fork");
+        exit(1);
+    }
     if (pid == 0) {
         if (!VP_TEST_SANITIZED) {
             struct rlimit rl = {(rlim_t)bytes, (rlim_t)bytes};
@@ -68,7 +93,10 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
     }
     int st = 0;
     while (waitpid(pid, &st, 0) < 0) {
-        if (errno != EINTR) { perror("waitpid"); exit(1); }
+        if (errno != EINTR) {
+            perror("waitpid");
+            exit(1);
+        }
     }
     if (WIFSIGNALED(st)) {
         fprintf(stderr, "   bounded run killed by signal %d (%s)\n", WTERMSIG(st),
@@ -81,18 +109,35 @@ static void vp_test_bounded(void (*fn)(void), unsigned seconds, unsigned long lo
 
 /* A library call that must succeed: on failure prints the call, the
  * result's name and the context's message (ctx may be NULL: no message). */
-#define ASSERT_OK(ctx, call) do { vp_result r_ = (vp_result)(call); if (r_ != VP_OK) { \
-    fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
-    vp_result_name(r_), vp_context_message(ctx)); exit(1); } } while (0)
+#define ASSERT_OK(ctx, call)                                                                       \
+    do {                                                                                           \
+        vp_result r_ = (vp_result)(call);                                                          \
+        if (r_ != VP_OK) {                                                                         \
+            fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call,               \
+                    vp_result_name(r_), vp_context_message(ctx));                                  \
+            exit(1);                                                                               \
+        }                                                                                          \
+    } while (0)
 /* The same for an internal call that reports into a message buffer (the
  * `char *err, size_t errlen` of src/vdb and src/mesh) instead of a context. */
-#define ASSERT_OK_MSG(msg, call) do { vp_result r_ = (vp_result)(call); if (r_ != VP_OK) { \
-    fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call, \
-    vp_result_name(r_), (const char *)(msg)); exit(1); } } while (0)
+#define ASSERT_OK_MSG(msg, call)                                                                   \
+    do {                                                                                           \
+        vp_result r_ = (vp_result)(call);                                                          \
+        if (r_ != VP_OK) {                                                                         \
+            fprintf(stderr, "%s:%d: %s failed: %s: %s\n", __FILE__, __LINE__, #call,               \
+                    vp_result_name(r_), (const char *)(msg));                                      \
+            exit(1);                                                                               \
+        }                                                                                          \
+    } while (0)
 /* A library call that must fail with result `want`. */
-#define ASSERT_FAILS(ctx, want, call) do { vp_result r_ = (vp_result)(call); if (r_ != (want)) { \
-    fprintf(stderr, "%s:%d: %s gave %s, not %s (message: %s)\n", __FILE__, __LINE__, \
-    #call, vp_result_name(r_), vp_result_name(want), vp_context_message(ctx)); exit(1); } \
+#define ASSERT_FAILS(ctx, want, call)                                                              \
+    do {                                                                                           \
+        vp_result r_ = (vp_result)(call);                                                          \
+        if (r_ != (want)) {                                                                        \
+            fprintf(stderr, "%s:%d: %s gave %s, not %s (message: %s)\n", __FILE__, __LINE__,       \
+                    #call, vp_result_name(r_), vp_result_name(want), vp_context_message(ctx));     \
+            exit(1);                                                                               \
+        }                                                                                          \
     } while (0)
 
 /* Which cases run: with VP_TEST_CASE=NAME only the case named NAME (what
@@ -126,7 +171,12 @@ static int vp_test_wanted(const char *name) {
 /* A case: RUN_TEST(fn) runs fn(); RUN_CASE(name, call) runs call under the
  * name `name` (an identifier: tests/CMakeLists.txt finds both forms in the
  * source and registers one CTest test per name). */
-#define RUN_CASE(name, call) do { if (vp_test_wanted(#name)) { \
-    fprintf(stderr, "-- %s\n", #name); call; } } while (0)
+#define RUN_CASE(name, call)                                                                       \
+    do {                                                                                           \
+        if (vp_test_wanted(#name)) {                                                               \
+            fprintf(stderr, "-- %s\n", #name);                                                     \
+            call;                                                                                  \
+        }                                                                                          \
+    } while (0)
 #define RUN_TEST(fn) RUN_CASE(fn, fn())
 #endif

@@ -32,10 +32,10 @@ VP_API int vp_format_parse(const char *name, vp_format *out);
 VP_API vp_format vp_format_from_path(const char *path);
 
 typedef struct vp_export_params {
-    vp_format format;          /* VP_FORMAT_UNKNOWN (default): from the path's extension */
-    vp_write_params vdb;       /* .vdb: precision and metadata; .ply/.obj: the
+    vp_format format;        /* VP_FORMAT_UNKNOWN (default): from the path's extension */
+    vp_write_params vdb;     /* .vdb: precision and metadata; .ply/.obj: the
                                   metadata becomes comment lines (CSV has none) */
-    int sphere_subdivisions;   /* .obj spheres: each icosahedron edge split in
+    int sphere_subdivisions; /* .obj spheres: each icosahedron edge split in
                                   n (1..16, default 2: 42 vertices, 80 triangles) */
 } vp_export_params;
 /* Fills defaults (vp_write_params_init for vdb). */

@@ -83,8 +83,8 @@ VP_API void vp_container_inside_box(const vp_container *c, double lo[3], double 
  * (the file) and both boxes or the bad value. vmin, vmax (may be NULL):
  * the field's range over c's inside box. */
 VP_API vp_result vp_field_check(vp_context *ctx, const vp_field *f, const char *name,
-                                const char *what, int positive, const vp_container *c,
-                                double *vmin, double *vmax);
+                                const char *what, int positive, const vp_container *c, double *vmin,
+                                double *vmax);
 
 /* A container with a mask taken out: the inside of base where mask is
  * not inside, as a signed distance max(d_base, -d_mask) (exact where one

@@ -16,21 +16,21 @@ extern "C" {
 
 typedef struct vp_jam_params {
     vp_fit fit;
-    vp_size_dist radius;     /* the radii's distribution; all radii are then
+    vp_size_dist radius;    /* the radii's distribution; all radii are then
                                 scaled by one factor until the packing jams */
-    size_t count;            /* spheres; 0: from target_fraction */
-    double target_fraction;  /* with count 0: count = this fraction of the
+    size_t count;           /* spheres; 0: from target_fraction */
+    double target_fraction; /* with count 0: count = this fraction of the
                                 container's volume over the mean sphere
                                 volume of `radius` (default 0.64) */
-    double tolerance;        /* largest overlap / (r_i + r_j) at the end;
+    double tolerance;       /* largest overlap / (r_i + r_j) at the end;
                                 default 1e-6 */
-    double contact_gap;      /* a contact: a gap below this much of r_i + r_j
+    double contact_gap;     /* a contact: a gap below this much of r_i + r_j
                                 (of 2 r_i at the wall); default 1e-4 */
     uint64_t seed;
-    double margin;           /* world distance each sphere keeps from the wall
+    double margin; /* world distance each sphere keeps from the wall
                                 (its surface with fit inside, its centre with
                                 fit center); default 0 */
-    double gap;              /* world distance kept between the surfaces of
+    double gap;    /* world distance kept between the surfaces of
                                 any two (smaller than the radii); default 0 */
     /* Optional (field.h, docs/fields.md; not owned): each sphere's radius
      * times the field at its starting centre (VP_FIELD_SCALE) or the field
@@ -57,9 +57,9 @@ typedef struct vp_jam_report {
     double max_overlap;      /* largest overlap / (r_i + r_j) at the end */
     double radius_scale;     /* final radius / the distribution's radius */
     double particle_volume;
-    int minimizations;       /* energy minimisations (compression steps) */
-    long iterations;         /* FIRE steps over all of them */
-    int list_builds;         /* neighbour lists built */
+    int minimizations; /* energy minimisations (compression steps) */
+    long iterations;   /* FIRE steps over all of them */
+    int list_builds;   /* neighbour lists built */
     double seconds;
 } vp_jam_report;
 

@@ -19,19 +19,19 @@ extern "C" {
 
 typedef struct vp_relax_params {
     vp_fit fit;
-    vp_size_dist radius;     /* initial radii */
-    size_t count;            /* spheres */
-    double target_fraction;  /* > 0: scale the radii so that the spheres'
+    vp_size_dist radius;    /* initial radii */
+    size_t count;           /* spheres */
+    double target_fraction; /* > 0: scale the radii so that the spheres'
                                 volume is this fraction of the container's
                                 before relaxation; 0 = radii as given */
-    double tolerance;        /* largest overlap / (r_i + r_j) at the end;
+    double tolerance;       /* largest overlap / (r_i + r_j) at the end;
                                 default 1e-6 */
-    int max_sweeps;          /* 0 = automatic */
+    int max_sweeps;         /* 0 = automatic */
     uint64_t seed;
-    double margin;           /* world distance each sphere keeps from the wall
+    double margin; /* world distance each sphere keeps from the wall
                                 (its surface with fit inside, its centre with
                                 fit center); default 0 */
-    double gap;              /* world distance kept between the surfaces of
+    double gap;    /* world distance kept between the surfaces of
                                 any two (smaller than the radii); default 0 */
     /* Optional (field.h, docs/fields.md; not owned): each sphere's radius
      * times the field at its starting centre (VP_FIELD_SCALE) or the field
@@ -55,12 +55,12 @@ typedef struct vp_relax_report {
 
 /* *out is owned by the caller; report may be NULL. Deterministic in seed
  * whatever the thread count. */
-VP_API vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_params *params,
-                               vp_particles **out, vp_relax_report *report);
+VP_API vp_result vp_pack_relax(vp_context *ctx, const vp_container *c,
+                               const vp_relax_params *params, vp_particles **out,
+                               vp_relax_report *report);
 /* The container's load parameters for this job (as
  * vp_container_params_for_lattice in vdbpack.h). */
-VP_API void vp_container_params_for_relax(vp_container_params *cp,
-                                          const vp_relax_params *params);
+VP_API void vp_container_params_for_relax(vp_container_params *cp, const vp_relax_params *params);
 #ifdef __cplusplus
 }
 #endif

@@ -15,10 +15,10 @@ extern "C" {
 #endif
 
 typedef enum vp_render_view {
-    VP_VIEW_ISO = 0,  /* from (+1,+1,+1) towards the centre, +Y up (default) */
-    VP_VIEW_FRONT,    /* from +Z looking along -Z, +Y up (Houdini's front) */
-    VP_VIEW_TOP,      /* from +Y looking down, -Z up */
-    VP_VIEW_CAMERA    /* eye, target and up of the params */
+    VP_VIEW_ISO = 0, /* from (+1,+1,+1) towards the centre, +Y up (default) */
+    VP_VIEW_FRONT,   /* from +Z looking along -Z, +Y up (Houdini's front) */
+    VP_VIEW_TOP,     /* from +Y looking down, -Z up */
+    VP_VIEW_CAMERA   /* eye, target and up of the params */
 } vp_render_view;
 
 typedef enum vp_render_colour {
@@ -56,9 +56,9 @@ typedef struct vp_render_params {
                                  particles crossing the plane show their cut
                                  face */
     double cut_value;
-    int ao_samples;           /* ambient-occlusion rays per pixel; default 8,
+    int ao_samples; /* ambient-occlusion rays per pixel; default 8,
                                  0 = none, at most 64 */
-    int shadows;              /* key-light shadow rays; default 1 */
+    int shadows;    /* key-light shadow rays; default 1 */
 } vp_render_params;
 VP_API void vp_render_params_init(vp_render_params *p);
 

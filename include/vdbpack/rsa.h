@@ -18,20 +18,20 @@ extern "C" {
 #define VP_RSA_DEFAULT_RETRIES 5000
 
 typedef struct vp_rsa_pass {
-    size_t count;          /* particles wanted (ignored when maximal) */
-    int maximal;           /* 1: fill until no centre of this pass's radius fits
+    size_t count;                 /* particles wanted (ignored when maximal) */
+    int maximal;                  /* 1: fill until no centre of this pass's radius fits
                               anywhere (a maximal set). With a distribution
                               (spheres): until none of its smallest radius
                               fits; each try draws from the distribution, cut
                               at the room where it lands. Solids: the retry
                               limit ends it */
-    vp_size_dist radius;   /* bounding-sphere radius */
-    int retries;           /* consecutive failed tries after which the pass
+    vp_size_dist radius;          /* bounding-sphere radius */
+    int retries;                  /* consecutive failed tries after which the pass
                               ends; 0 = VP_RSA_DEFAULT_RETRIES */
-    int grow;              /* after the pass, grow its particles until each
+    int grow;                     /* after the pass, grow its particles until each
                               touches a neighbour (or the wall with fit inside) */
     char name[VP_GROUP_NAME_MAX]; /* group name; "" = "passK" (K from 1) */
-    int own_shape;         /* 1: this pass packs `shape`; 0 (default): the
+    int own_shape;                /* 1: this pass packs `shape`; 0 (default): the
                               params' shape. Passes of different shapes make
                               a mixed set (VP_SHAPE_MIXED, at most
                               VP_MAX_SHAPES shapes; no margin, gap, fields
@@ -62,15 +62,15 @@ typedef struct vp_rsa_params {
     const vp_rsa_pass *passes; /* not owned; npasses in 1..VP_MAX_GROUPS */
     size_t npasses;
     uint64_t seed;
-    size_t max_cells;          /* most active cells a refinement may make (memory:
+    size_t max_cells;   /* most active cells a refinement may make (memory:
                                   8 to 16 bytes each for spheres, 5 to 13 for
                                   solids); 0 = automatic, 32 x the
                                   expected count of the pass (at least 65536) */
-    double shape_param;        /* VP_SHAPE_SUPERBALL: the exponent p */
-    double margin;             /* spheres: world distance each keeps from the
+    double shape_param; /* VP_SHAPE_SUPERBALL: the exponent p */
+    double margin;      /* spheres: world distance each keeps from the
                                   wall (its surface with fit inside, its centre
                                   with fit center); default 0 */
-    double gap;                /* spheres: world distance between the surfaces
+    double gap;         /* spheres: world distance between the surfaces
                                   of any two (< the smallest radius); default 0 */
     /* Fields (field.h, docs/fields.md; spheres only, not owned, NULL =
      * none). With either, the passes run the field packer: darts uniform in
@@ -78,13 +78,13 @@ typedef struct vp_rsa_params {
      * density's probability; a pass ends at its count or its retry limit
      * (count=max included; grow is refused). The fields must cover the
      * container (vp_field_check), or VP_ERR_INVALID_ARGUMENT. */
-    const vp_field *radius_field;   /* the radius at each centre: with
+    const vp_field *radius_field; /* the radius at each centre: with
                                        VP_FIELD_SCALE (default) times a radius
                                        drawn from the pass's distribution,
                                        with VP_FIELD_ABSOLUTE the radius itself
                                        (the pass's radius is then ignored) */
     vp_field_mode radius_field_mode;
-    const vp_field *density_field;  /* relative number density: a dart at x is
+    const vp_field *density_field; /* relative number density: a dart at x is
                                        kept with probability f(x) / max f over
                                        the container (>= 0, not all 0) */
 } vp_rsa_params;
@@ -97,17 +97,17 @@ typedef enum vp_rsa_stop {
 } vp_rsa_stop;
 
 typedef struct vp_rsa_pass_report {
-    size_t requested;      /* count (0 for maximal) */
+    size_t requested; /* count (0 for maximal) */
     size_t placed;
     vp_rsa_stop stop;
-    uint64_t tries;        /* candidate centres tested */
-    uint64_t pretested;    /* solids: tries whose exact tests against the particles
+    uint64_t tries;     /* candidate centres tested */
+    uint64_t pretested; /* solids: tries whose exact tests against the particles
                               placed before their batch ran in parallel while the
                               darts were made (every try of a one-radius pass) */
-    int budget_hit;        /* 1 when a refinement of the empty space would have
+    int budget_hit;     /* 1 when a refinement of the empty space would have
                               made more than max_cells cells: the pass went on
                               with plain darts in the cells it had */
-    double grow_mean;      /* with grow: mean final/initial radius; else 1 */
+    double grow_mean;   /* with grow: mean final/initial radius; else 1 */
     double seconds;
 } vp_rsa_pass_report;
 

@@ -139,13 +139,13 @@ typedef enum vp_shape {
     VP_SHAPE_RHOMBICOSIDODECAHEDRON,
     VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON,
     VP_SHAPE_SNUB_DODECAHEDRON,
-    VP_SHAPE_COUNT,        /* the number of built-in shapes above */
-    VP_SHAPE_MESH = 64,    /* a closed mesh from a file (vp_mesh_shape) */
+    VP_SHAPE_COUNT,          /* the number of built-in shapes above */
+    VP_SHAPE_MESH = 64,      /* a closed mesh from a file (vp_mesh_shape) */
     VP_SHAPE_SUPERBALL = 65, /* |x|^2p + |y|^2p + |z|^2p <= 1, convex (0.5 <= p <=
                               1000): p = 1 a sphere, 0.5 an octahedron, large
                               p nearly a cube; p is the shape_param field of
                               the particle set and of the packers' params */
-    VP_SHAPE_MIXED = 66    /* a particle set of several shapes (rsa passes of
+    VP_SHAPE_MIXED = 66      /* a particle set of several shapes (rsa passes of
                               different shapes): vp_particles.shapes names
                               them, vp_particles.shape_index gives each
                               particle's; never a packer's shape */
@@ -158,7 +158,7 @@ typedef struct vp_mesh_shape vp_mesh_shape;
  * its exponent, or a mesh shape. */
 typedef struct vp_shape_ref {
     vp_shape shape;
-    double param;               /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
+    double param;              /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
     const vp_mesh_shape *mesh; /* VP_SHAPE_MESH: the shape (not owned); else NULL */
 } vp_shape_ref;
 /* Most distinct shapes in one particle set, and the longest recorded name
@@ -202,12 +202,13 @@ VP_API vp_result vp_shape_write_obj_param(vp_context *ctx, vp_shape s, double pa
  * non-manifold mesh (VP_ERR_OPEN_MESH, naming the edge counts), a mesh that
  * encloses no volume (VP_ERR_FORMAT). *out is owned by the caller. */
 VP_API vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **out);
-VP_API void vp_mesh_shape_destroy(vp_mesh_shape *s); /* NULL: no-op */
+VP_API void vp_mesh_shape_destroy(vp_mesh_shape *s);          /* NULL: no-op */
 VP_API double vp_mesh_shape_volume(const vp_mesh_shape *s);   /* at bounding radius 1 */
 VP_API double vp_mesh_shape_inradius(const vp_mesh_shape *s); /* nearest surface point from the
                                                                  centroid; 0 if it is outside */
 VP_API size_t vp_mesh_shape_triangles(const vp_mesh_shape *s);
-VP_API const char *vp_mesh_shape_name(const vp_mesh_shape *s); /* the file's base name; owned by s */
+VP_API const char *
+vp_mesh_shape_name(const vp_mesh_shape *s); /* the file's base name; owned by s */
 /* The same from a triangle mesh in memory (arrays as for
  * vp_container_from_mesh: 3 * vertex_count doubles, 3 * triangle_count
  * 32-bit indices, only read during the call); name (NULL = "mesh") is what
@@ -285,13 +286,13 @@ typedef enum vp_volume_estimate {
 /* What is known about a container (filled by the library). */
 typedef struct vp_container_info {
     vp_container_kind kind;
-    double bmin[3], bmax[3];  /* world bounds of the inside */
-    double volume;            /* world volume of the inside */
-    double voxel_size;        /* 0 for analytic containers */
-    double interior_band;     /* depth (world) to which distances are exact
+    double bmin[3], bmax[3]; /* world bounds of the inside */
+    double volume;           /* world volume of the inside */
+    double voxel_size;       /* 0 for analytic containers */
+    double interior_band;    /* depth (world) to which distances are exact
                                  inside; HUGE_VAL for analytic containers */
-    char voxel_reason[160];   /* why this voxel size was chosen */
-    char grid_name[128];      /* level-set grid name (may be empty) */
+    char voxel_reason[160];  /* why this voxel size was chosen */
+    char grid_name[128];     /* level-set grid name (may be empty) */
     size_t active_voxels;
     /* mesh containers only */
     size_t mesh_vertices;     /* after welding */
@@ -299,11 +300,11 @@ typedef struct vp_container_info {
     size_t mesh_triangles;
     size_t boundary_edges;
     size_t nonmanifold_edges;
-    double mesh_volume;       /* |signed volume| of the mesh as read */
+    double mesh_volume;        /* |signed volume| of the mesh as read */
     size_t inconsistent_edges; /* edges where the two triangles run the same
                                  way (the orientation flips there) */
-    size_t mesh_pieces;       /* connected pieces */
-    vp_inside_mode inside;    /* how the inside was decided: VP_INSIDE_CLOSED
+    size_t mesh_pieces;        /* connected pieces */
+    vp_inside_mode inside;     /* how the inside was decided: VP_INSIDE_CLOSED
                                  (OpenVDB's closed-surface voxelization) or
                                  VP_INSIDE_WINDING */
     /* what the winding route mended before counting (0 otherwise) */
@@ -315,7 +316,7 @@ typedef struct vp_container_info {
     /* an independent estimate of the inside's volume (mesh containers) */
     vp_volume_estimate volume_estimate_kind;
     double volume_estimate;
-    int volume_mismatch;      /* 1: volume and volume_estimate differ by more
+    int volume_mismatch; /* 1: volume and volume_estimate differ by more
                                  than 5 % of the estimate (the voxel size
                                  loses thin parts, or the mesh is broken in a
                                  way the inside cannot mend) */
@@ -324,47 +325,46 @@ typedef struct vp_container_info {
 } vp_container_info;
 
 /* Analytic containers (exact; for tests and simple jobs). */
-VP_API vp_result vp_container_create_sphere(vp_context *ctx, const double center[3],
-                                            double radius, vp_container **out);
+VP_API vp_result vp_container_create_sphere(vp_context *ctx, const double center[3], double radius,
+                                            vp_container **out);
 VP_API vp_result vp_container_create_box(vp_context *ctx, const double bmin[3],
                                          const double bmax[3], vp_container **out);
 /* A caller-defined container. user is owned by the container if
  * ops->destroy is set. bounds must enclose the inside. */
 VP_API vp_result vp_container_create_custom(vp_context *ctx, const vp_container_ops *ops,
-                                            void *user, const double bmin[3],
-                                            const double bmax[3], double volume,
-                                            vp_container **out);
+                                            void *user, const double bmin[3], const double bmax[3],
+                                            double volume, vp_container **out);
 
 typedef struct vp_container_params {
-    double voxel_size;        /* 0 = automatic */
-    double particle_radius;   /* largest particle bounding radius (world);
+    double voxel_size;         /* 0 = automatic */
+    double particle_radius;    /* largest particle bounding radius (world);
                                  sizes the interior band and the auto voxel
                                  size; 0 = unknown (use particle_count) */
-    size_t particle_count;    /* expected count when the radius is unknown */
+    size_t particle_count;     /* expected count when the radius is unknown */
     double space_per_particle; /* with particle_count: volume one particle of
                                  bounding radius 1 takes up in the packing
                                  (shape volume / packing fraction);
                                  0 = spheres on FCC */
-    vp_inside_mode inside;    /* meshes: how the inside is decided (default
+    vp_inside_mode inside;     /* meshes: how the inside is decided (default
                                  VP_INSIDE_AUTO) */
-    const char *grid_name;    /* .vdb: grid to use; NULL = the first float
+    const char *grid_name;     /* .vdb: grid to use; NULL = the first float
                                  level set (or, with has_iso, the first float
                                  grid) */
-    int has_iso;              /* .vdb: 1 to take a fog or density grid as the
+    int has_iso;               /* .vdb: 1 to take a fog or density grid as the
                                  container: inside where its value >= iso
                                  (Houdini's convention for fog to SDF),
                                  converted to a level set by OpenVDB */
     double iso;
-    int narrow_band;          /* 1: the interior band reaches just past
+    int narrow_band;    /* 1: the interior band reaches just past
                                  particle_radius (1.02 r + 0.9 voxel, at
                                  least 3 voxels): enough for the lattice
                                  packer, whose search reads deeper through
                                  a coarse depth map, and about a third
                                  faster to voxelize; 0: 1.25 r + 2 voxels,
                                  room for growth and relaxation */
-    const char *name;         /* vp_container_from_mesh: the mesh's name in
+    const char *name;   /* vp_container_from_mesh: the mesh's name in
                                  messages; NULL = "mesh" */
-    double extra_depth;       /* the interior band reaches this much deeper
+    double extra_depth; /* the interior band reaches this much deeper
                                  (world; >= 0): a margin kept from the wall
                                  (vp_container_params_for_rsa and _for_jam
                                  set it from theirs); default 0 */
@@ -395,8 +395,8 @@ VP_API vp_result vp_container_load(vp_context *ctx, const char *path,
  * *out is owned by the caller. */
 VP_API vp_result vp_container_from_mesh(vp_context *ctx, const double *vertices,
                                         size_t vertex_count, const uint32_t *triangles,
-                                        size_t triangle_count,
-                                        const vp_container_params *params, vp_container **out);
+                                        size_t triangle_count, const vp_container_params *params,
+                                        vp_container **out);
 /* For a host that holds an OpenVDB level set in memory: write it to a .vdb
  * (a fast local or RAM disk will do) and load that, or wrap its sampler in
  * vp_container_create_custom (docs/python.md, "Containers from a host"). */
@@ -424,22 +424,22 @@ VP_API vp_result vp_container_save(vp_context *ctx, const vp_container *c, const
 typedef struct vp_particles {
     size_t count;
     size_t capacity;
-    double *positions;      /* 3*count world-space centres */
-    float *radii;           /* count bounding-sphere radii, or NULL: all uniform_radius */
+    double *positions; /* 3*count world-space centres */
+    float *radii;      /* count bounding-sphere radii, or NULL: all uniform_radius */
     float uniform_radius;
-    float *orients;         /* 4*count unit quaternions (x,y,z,w), or NULL: all uniform_orient */
+    float *orients; /* 4*count unit quaternions (x,y,z,w), or NULL: all uniform_orient */
     float uniform_orient[4];
-    int has_orient;         /* 0: spheres, no orient attribute */
+    int has_orient; /* 0: spheres, no orient attribute */
     vp_shape shape;
     const vp_mesh_shape *mesh; /* the shape when shape == VP_SHAPE_MESH; not owned */
-    uint16_t *groups;       /* count group indices, or NULL: all in group 0 */
-    unsigned group_count;   /* >= 1 */
+    uint16_t *groups;          /* count group indices, or NULL: all in group 0 */
+    unsigned group_count;      /* >= 1 */
     char group_names[VP_MAX_GROUPS][VP_GROUP_NAME_MAX];
-    double position_error;  /* read from a file: the largest error (world
+    double position_error; /* read from a file: the largest error (world
                                units) of a stored position against the one
                                written, from P's codec (16-bit fixed point:
                                sqrt(3) * voxel / 65535); 0 otherwise */
-    double shape_param;     /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
+    double shape_param;    /* VP_SHAPE_SUPERBALL: the exponent p; else 0 */
     /* shape == VP_SHAPE_MIXED only (else shape_index NULL, shape_count 0):
      * the shapes (2..VP_MAX_SHAPES, in the order of the passes that
      * introduced them) and each particle's index into them (owned) */
@@ -497,26 +497,26 @@ typedef struct vp_lattice_params {
     vp_shape shape;
     vp_lattice lattice;
     vp_fit fit;
-    double radius;       /* bounding-sphere radius; 0 = from count */
-    size_t count;        /* wanted count when radius == 0 */
-    int offsets;         /* placement offsets to try; 0 = automatic, 1 = none */
-    int rotate;          /* also search orientations */
-    int rotations;       /* orientations to try with rotate; 0 = automatic */
+    double radius; /* bounding-sphere radius; 0 = from count */
+    size_t count;  /* wanted count when radius == 0 */
+    int offsets;   /* placement offsets to try; 0 = automatic, 1 = none */
+    int rotate;    /* also search orientations */
+    int rotations; /* orientations to try with rotate; 0 = automatic */
     uint64_t seed;
-    double shape_param;  /* VP_SHAPE_SUPERBALL: the exponent p */
+    double shape_param; /* VP_SHAPE_SUPERBALL: the exponent p */
 } vp_lattice_params;
 VP_API void vp_lattice_params_init(vp_lattice_params *p);
 
 typedef struct vp_lattice_report {
-    double radius;            /* radius used */
-    size_t count;             /* particles placed */
-    int offsets_tried;        /* placements evaluated in total */
-    int rotations_tried;      /* orientations searched (1 without rotate) */
-    int radius_iterations;    /* count mode: radii tried */
-    double offset[3];         /* chosen lattice offset (world) */
-    double rotation[4];       /* chosen global rotation (x,y,z,w) */
-    double lattice_fraction;  /* fraction of the infinite lattice */
-    double particle_volume;   /* sum of particle volumes */
+    double radius;           /* radius used */
+    size_t count;            /* particles placed */
+    int offsets_tried;       /* placements evaluated in total */
+    int rotations_tried;     /* orientations searched (1 without rotate) */
+    int radius_iterations;   /* count mode: radii tried */
+    double offset[3];        /* chosen lattice offset (world) */
+    double rotation[4];      /* chosen global rotation (x,y,z,w) */
+    double lattice_fraction; /* fraction of the infinite lattice */
+    double particle_volume;  /* sum of particle volumes */
     double seconds;
 } vp_lattice_report;
 
@@ -572,23 +572,23 @@ typedef struct vp_meta {
 /* What vp_write_points wrote (filled on success when
  * vp_write_params.report is not NULL). */
 typedef struct vp_write_report {
-    int full_precision;      /* 1: float P was written; 0: 16-bit fixed point */
-    int promoted;            /* 1: 16-bit fixed point was asked for but would
+    int full_precision;    /* 1: float P was written; 0: 16-bit fixed point */
+    int promoted;          /* 1: 16-bit fixed point was asked for but would
                                 have rounded positions by more than
                                 VP_POSITION_ERROR_LIMIT of the smallest
                                 radius, so float P was written */
-    double voxel_size;       /* the points grid's voxel size */
-    double position_error;   /* sqrt(3) x step x voxel: what a reader gets */
-    double fixed16_error;    /* the error 16-bit fixed point would have had */
-    double min_radius;       /* the smallest radius written */
+    double voxel_size;     /* the points grid's voxel size */
+    double position_error; /* sqrt(3) x step x voxel: what a reader gets */
+    double fixed16_error;  /* the error 16-bit fixed point would have had */
+    double min_radius;     /* the smallest radius written */
 } vp_write_report;
 
 typedef struct vp_write_params {
-    int full_precision;      /* 1: float P; 0: 16-bit fixed point (float
+    int full_precision;   /* 1: float P; 0: 16-bit fixed point (float
                                 instead where that is too coarse, see
                                 VP_POSITION_ERROR_LIMIT) */
-    int points_per_voxel;    /* for OpenVDB's voxel-size helper; default 8 */
-    const vp_meta *meta;     /* file metadata; may be NULL */
+    int points_per_voxel; /* for OpenVDB's voxel-size helper; default 8 */
+    const vp_meta *meta;  /* file metadata; may be NULL */
     size_t meta_count;
     vp_write_report *report; /* may be NULL; owned by the caller, filled on
                                 success */

@@ -72,7 +72,8 @@ static vp_result check_levelset(vp_context *ctx, const char *path, vpv_levelset 
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                        "%s: the inside of the level set reaches its bounding box (it leaks: "
-                       "the surface is probably open), refusing to pack it", vp_path_base(path));
+                       "the surface is probably open), refusing to pack it",
+                       vp_path_base(path));
     }
     if (li->inside_voxels == 0 || !(li->volume > 0)) {
         vpv_levelset_destroy(ls);
@@ -80,7 +81,8 @@ static vp_result check_levelset(vp_context *ctx, const char *path, vpv_levelset 
                        "%s: the level set has an empty inside (no voxel below zero%s)",
                        vp_path_base(path),
                        kind == VP_CONTAINER_MESH ? "; is the mesh thinner than a voxel? "
-                                                   "try a smaller --voxel-size" : "");
+                                                   "try a smaller --voxel-size"
+                                                 : "");
     }
     return VP_OK;
 }
@@ -229,7 +231,8 @@ static double choose_voxel(const vp_container_params *pp, double radius, double 
     }
     snprintf(info->voxel_reason, sizeof info->voxel_reason,
              "1/200 of the mesh's bounding-box diagonal %g, to resolve the mesh (particles "
-             "are larger than that)", diag);
+             "are larger than that)",
+             diag);
     return diag / 200;
 }
 
@@ -244,13 +247,14 @@ static vp_result check_closed(vp_context *ctx, const char *name, const vp_mesh *
         return vp_fail(ctx, VP_ERR_OPEN_MESH,
                        "%s: the mesh is not closed: %zu boundary edges and %zu non-manifold edges "
                        "(after welding %zu vertices into %zu); fix it or %s to take its inside "
-                       "by winding number", name, m->boundary_edges, m->nonmanifold_edges,
-                       m->nverts_raw, m->nverts, other);
+                       "by winding number",
+                       name, m->boundary_edges, m->nonmanifold_edges, m->nverts_raw, m->nverts,
+                       other);
     if (m->inconsistent_edges)
         return vp_fail(ctx, VP_ERR_OPEN_MESH,
                        "%s: the mesh is closed but not consistently oriented (%zu edges where "
-                       "both triangles run the same way); fix it or %s", name,
-                       m->inconsistent_edges, other);
+                       "both triangles run the same way); fix it or %s",
+                       name, m->inconsistent_edges, other);
     return VP_OK;
 }
 
@@ -263,8 +267,7 @@ static vp_result check_closed(vp_context *ctx, const char *name, const vp_mesh *
  * messages; from_memory: hints name the parameter rather than the
  * command-line option. */
 static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
-                               const vp_container_params *pp, int from_memory,
-                               vp_container **out) {
+                               const vp_container_params *pp, int from_memory, vp_container **out) {
     char err[1024];
     vp_result r = check_closed(ctx, name, m, pp, from_memory);
     if (r != VP_OK) {
@@ -290,8 +293,8 @@ static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
     }
     info.mesh_triangles = m->ntris;
     info.mesh_pieces = rep.pieces;
-    int winding = pp->inside == VP_INSIDE_WINDING || !closed || !consistent ||
-                  rep.pieces_overlap || m->ntris == 0;
+    int winding = pp->inside == VP_INSIDE_WINDING || !closed || !consistent || rep.pieces_overlap ||
+                  m->ntris == 0;
     info.inside = winding ? VP_INSIDE_WINDING : VP_INSIDE_CLOSED;
     if (winding) {
         info.duplicate_triangles = rep.duplicate_triangles;
@@ -336,7 +339,8 @@ static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
             return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                            "%s: the mesh has no inside: its winding number is below 0.5 "
                            "everywhere (a single open surface, such as a plane or a bowl, "
-                           "encloses nothing)", name);
+                           "encloses nothing)",
+                           name);
         return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
                        "%s: the mesh encloses no volume (it is flat or degenerate)", name);
     }
@@ -358,16 +362,16 @@ static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
     /* memory guard: narrow-band voxels ~ area / voxel^2 * band width, at
      * about 4 bytes each plus tree overhead (x3); the winding route's band
      * is as wide outside as in */
-    double voxels = mesh_area(m) / (voxel * voxel) *
-                    (winding ? 2 * fmax(in_band, ex_band) : in_band + ex_band);
+    double voxels =
+        mesh_area(m) / (voxel * voxel) * (winding ? 2 * fmax(in_band, ex_band) : in_band + ex_band);
     double bytes = voxels * 12.0;
     /* the particles come after the level set: a request too large for
      * memory is refused now, not after minutes of voxelizing */
     double particles = estimate_particles(vol, radius, pp);
     bytes += particles * MIN_BYTES_PER_PARTICLE;
     uint64_t limit = vp_memory_limit(ctx);
-    if (bytes > (double)limit || ext[0] / voxel > 1e6 ||
-        ext[1] / voxel > 1e6 || ext[2] / voxel > 1e6) {
+    if (bytes > (double)limit || ext[0] / voxel > 1e6 || ext[1] / voxel > 1e6 ||
+        ext[2] / voxel > 1e6) {
         char a[32], b[32], c[64] = "";
         vp_format_bytes(bytes, a, sizeof a);
         vp_format_bytes((double)limit, b, sizeof b);
@@ -412,8 +416,7 @@ static vp_result voxelize_mesh(vp_context *ctx, const char *name, vp_mesh *m,
                            name, voxel);
         return r;
     }
-    (*out)->info.volume_mismatch =
-        fabs((*out)->info.volume - vol) > 0.05 * vol;
+    (*out)->info.volume_mismatch = fabs((*out)->info.volume - vol) > 0.05 * vol;
     return VP_OK;
 }
 
@@ -484,7 +487,8 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
         vpv_levelset_destroy(ls);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
                        "%s: about %.3g particles need an estimated %s of memory, more than the "
-                       "limit of %s; use fewer, larger particles", vp_path_base(path), particles, a, b);
+                       "limit of %s; use fewer, larger particles",
+                       vp_path_base(path), particles, a, b);
     }
     if (radius > 0 || pp->extra_depth > 0) {
         double depth = (pp->narrow_band ? 1.02 * radius + 0.9 * li.voxel_size
@@ -503,8 +507,8 @@ static vp_result load_vdb(vp_context *ctx, const char *path, const vp_container_
             return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
                            "%s: widening the level set's interior band to %g for particles of "
                            "radius %g needs an estimated %s of memory, more than the limit "
-                           "of %s; use smaller particles", vp_path_base(path), depth, radius,
-                           a, b);
+                           "of %s; use smaller particles",
+                           vp_path_base(path), depth, radius, a, b);
         }
         rc = vpv_levelset_ensure_interior(ls, depth, err, sizeof err);
         if (rc != VP_OK) {

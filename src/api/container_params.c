@@ -16,7 +16,8 @@ void vp_container_params_for_lattice(vp_container_params *cp, const vp_lattice_p
     /* space one particle of bounding radius 1 takes: its volume over the
      * lattice's packing fraction */
     double f = vp_lattice_fraction_param(lp->shape, lp->shape_param, lp->lattice);
-    cp->space_per_particle = f > 0 ? vp_shape_unit_volume_param(lp->shape, lp->shape_param) / f : 0.0;
+    cp->space_per_particle =
+        f > 0 ? vp_shape_unit_volume_param(lp->shape, lp->shape_param) / f : 0.0;
     /* the lattice packer reads no deeper than a particle's radius */
     cp->narrow_band = 1;
 }
@@ -39,7 +40,7 @@ void vp_container_params_for_rsa(vp_container_params *cp, const vp_rsa_params *r
     cp->particle_radius = rmax;
     cp->particle_count = count;
     cp->space_per_particle = 0;
-    cp->narrow_band = 0; /* room for growth */
+    cp->narrow_band = 0;          /* room for growth */
     cp->extra_depth = rp->margin; /* distances are clamped past the band */
 }
 
@@ -53,8 +54,8 @@ void vp_container_params_for_relax(vp_container_params *cp, const vp_relax_param
          * the largest is rmax, the mean cube E[r^3] */
         double rmax = vp_size_dist_max(&xp->radius), m3 = vp_size_dist_mean_cube(&xp->radius);
         cp->particle_radius = 0;
-        cp->space_per_particle = 4.0 / 3.0 * M_PI * (m3 / (rmax * rmax * rmax)) /
-                                 xp->target_fraction;
+        cp->space_per_particle =
+            4.0 / 3.0 * M_PI * (m3 / (rmax * rmax * rmax)) / xp->target_fraction;
     } else {
         cp->particle_radius = vp_size_dist_max(&xp->radius);
         cp->space_per_particle = 0;

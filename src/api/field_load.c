@@ -33,13 +33,11 @@ static int probe_field(const void *arg, char *err, size_t errlen) {
     return rc;
 }
 
-vp_result vp_field_load(vp_context *ctx, const char *path, const char *grid_name,
-                        vp_field **out) {
+vp_result vp_field_load(vp_context *ctx, const char *path, const char *grid_name, vp_field **out) {
     if (!out || !path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "field: no file given");
     *out = NULL;
     char why[1024];
-    if (vp_os_check_input(path, why, sizeof why) != 0)
-        return vp_fail(ctx, VP_ERR_IO, "%s", why);
+    if (vp_os_check_input(path, why, sizeof why) != 0) return vp_fail(ctx, VP_ERR_IO, "%s", why);
     /* as a container's .vdb: OpenVDB's reader first in a child with a
      * deadline and the memory limit (a hostile file crashes or hangs it) */
     probe_field_arg pa = {path, grid_name};
@@ -129,11 +127,12 @@ static double overlap_volume(const vp_container *base, const vp_container *mask)
     return vol * (double)in / ((double)n[0] * (double)n[1] * (double)n[2]);
 }
 
-vp_result vp_container_subtract(vp_context *ctx, const vp_container *base,
-                                const vp_container *mask, vp_container **out) {
+vp_result vp_container_subtract(vp_context *ctx, const vp_container *base, const vp_container *mask,
+                                vp_container **out) {
     if (!out || !base || !mask)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "mask: a container, a mask and out are "
-                                                     "required");
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "mask: a container, a mask and out are "
+                       "required");
     *out = NULL;
     masked *m = calloc(1, sizeof *m);
     if (!m) return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "mask: out of memory");
@@ -144,8 +143,9 @@ vp_result vp_container_subtract(vp_context *ctx, const vp_container *base,
     info.volume = base->info.volume - ov;
     if (!(info.volume > 0)) {
         free(m);
-        return vp_fail(ctx, VP_ERR_BAD_CONTAINER, "mask: the mask covers the whole container: "
-                                                  "nothing is left to pack");
+        return vp_fail(ctx, VP_ERR_BAD_CONTAINER,
+                       "mask: the mask covers the whole container: "
+                       "nothing is left to pack");
     }
     /* a level set mask knows its distance only as far out as its band:
      * beyond it, every point reads the band's depth */

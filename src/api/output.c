@@ -37,9 +37,9 @@ static size_t nonfinite_particle(const vp_particles *p, const char **what) {
         const float *q = p->orients ? p->orients + 4 * i : p->uniform_orient;
         double r = p->radii ? (double)p->radii[i] : (double)p->uniform_radius;
         *what = !isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]) ? "position"
-                : !isfinite(r)                                          ? "radius (pscale)"
-                : p->has_orient && !(isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]) &&
-                                     isfinite(q[3]))
+                : !isfinite(r)                                        ? "radius (pscale)"
+                : p->has_orient &&
+                        !(isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]) && isfinite(q[3]))
                     ? "orient"
                     : NULL;
         if (*what) return i;
@@ -177,8 +177,8 @@ static int write_sphere_obj(FILE *f) {
                 double l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
                 fprintf(f, "v %.9g %.9g %.9g\n", p[0] / l, p[1] / l, p[2] / l);
             }
-        /* index of (i,j) within this face's block */
-#define IDX(i, j) (base + (i) * (n + 1) - ((i) * ((i) - 1)) / 2 + (j))
+            /* index of (i,j) within this face's block */
+#define IDX(i, j) (base + (i) * (n + 1) - ((i) * ((i)-1)) / 2 + (j))
         for (int i = 0; i < n; i++)
             for (int j = 0; j < n - i; j++) {
                 fprintf(f, "f %d %d %d\n", IDX(i, j), IDX(i + 1, j), IDX(i, j + 1));
@@ -238,8 +238,8 @@ vp_result vp_shape_mesh(vp_context *ctx, vp_shape s, double param, const vp_mesh
     }
     if (!vertices || !face_sizes || !indices || *nverts < nv || *nfaces < nf || *nindices < ni)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "shape mesh: arrays for %zu vertices, %zu faces and %zu indices needed",
-                       nv, nf, ni);
+                       "shape mesh: arrays for %zu vertices, %zu faces and %zu indices needed", nv,
+                       nf, ni);
     if (poly) {
         size_t k = 0;
         for (int v = 0; v < poly->nverts; v++)
@@ -272,8 +272,9 @@ vp_result vp_shape_write_obj(vp_context *ctx, vp_shape s, const char *path) {
         vp_atomic_abort(&a);
         return vp_fail(ctx, VP_ERR_IO, "%s: cannot write (%s)", path, strerror(e));
     }
-    fprintf(f, "# vdbpack %s unit %s: bounding-sphere radius 1, centroid at the origin.\n"
-               "# Instance it at each point scaled by pscale and rotated by orient.\n",
+    fprintf(f,
+            "# vdbpack %s unit %s: bounding-sphere radius 1, centroid at the origin.\n"
+            "# Instance it at each point scaled by pscale and rotated by orient.\n",
             VP_VERSION_STRING, vp_shape_name(s));
     fprintf(f, "o %s\n", vp_shape_name(s));
     int bad = 0;

@@ -42,8 +42,7 @@ static int probe_child(int fd, void *user) {
     char err[1024] = "";
     int32_t rc = c->fn(c->arg, err, sizeof err);
     uint32_t n = (uint32_t)strlen(err);
-    int bad = vp_subproc_write_all(fd, &rc, sizeof rc) ||
-              vp_subproc_write_all(fd, &n, sizeof n) ||
+    int bad = vp_subproc_write_all(fd, &rc, sizeof rc) || vp_subproc_write_all(fd, &n, sizeof n) ||
               vp_subproc_write_all(fd, err, n);
     return bad ? 3 : 0;
 }
@@ -91,8 +90,7 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
     case VP_SUBPROC_NO_FORK:
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: cannot start the file check (fork: %s)",
                        vp_path_base(path), strerror(errno));
-    case VP_SUBPROC_CANCELLED:
-        return vp_fail(ctx, VP_ERR_CANCELLED, "cancelled");
+    case VP_SUBPROC_CANCELLED: return vp_fail(ctx, VP_ERR_CANCELLED, "cancelled");
     case VP_SUBPROC_TIMEOUT:
         return vp_fail(ctx, VP_ERR_FORMAT,
                        "%s: OpenVDB's reader did not finish within %.0f s; the file is probably "
@@ -108,8 +106,7 @@ vp_result vp_probe_read(vp_context *ctx, const char *path, vp_probe_fn fn, const
                        "%s: OpenVDB's reader failed on this file (exit status %d); the file is "
                        "probably corrupt",
                        vp_path_base(path), WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-    case VP_SUBPROC_ANSWERED:
-        break;
+    case VP_SUBPROC_ANSWERED: break;
     }
     call.msg[call.n] = '\0';
     if (call.rc != VP_OK) return vp_fail(ctx, (vp_result)call.rc, "%s", call.msg);

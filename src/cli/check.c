@@ -76,8 +76,7 @@ static int check_mask(vp_context *ctx, const char *mask, double voxel, vp_contai
     int an = vp_cli_analytic_container(ctx, mask, &m);
     if (an == -2) return vp_cli_die(2, "check: --mask: %s", vp_context_message(ctx));
     if (an < 0)
-        return vp_cli_die(2, "check: malformed analytic --mask '%s' (sphere:R or box:X,Y,Z)",
-                          mask);
+        return vp_cli_die(2, "check: malformed analytic --mask '%s' (sphere:R or box:X,Y,Z)", mask);
     if (an == 0) {
         char path[4096];
         const char *cut = NULL, *grid = NULL;
@@ -120,11 +119,11 @@ int vp_cli_check(int argc, char **argv) {
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED()                                                                                 \
-    do {                                                                                       \
-        if (!v) return vp_cli_die(2, "check: %s needs a value", a);                            \
-        if (vp_cli_once(&seen, "check", a, v)) return 2;                                       \
-        i++;                                                                                   \
+#define NEED()                                                                                     \
+    do {                                                                                           \
+        if (!v) return vp_cli_die(2, "check: %s needs a value", a);                                \
+        if (vp_cli_once(&seen, "check", a, v)) return 2;                                           \
+        i++;                                                                                       \
     } while (0)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(VP_CHECK_HELP, stdout);
@@ -261,7 +260,8 @@ int vp_cli_check(int argc, char **argv) {
         const char *sf = desc ? meta_value(desc, "shape_file") : NULL;
         char name[256] = "";
         if (sf && *sf == '"') sscanf(sf + 1, "%255[^\"]", name);
-        if ((status = vp_cli_attach_mesh(ctx, "check", file, name, shape_files, nshape_files, p, meshes)) != 0)
+        if ((status = vp_cli_attach_mesh(ctx, "check", file, name, shape_files, nshape_files, p,
+                                         meshes)) != 0)
             goto done;
         status = 1;
     }
@@ -275,13 +275,17 @@ int vp_cli_check(int argc, char **argv) {
         goto done;
     }
     if (an < 0) {
-        status = vp_cli_die(2, "check: malformed analytic container '%s' (sphere:R or box:X,Y,Z "
-                               "with positive sizes)", cont);
+        status = vp_cli_die(2,
+                            "check: malformed analytic container '%s' (sphere:R or box:X,Y,Z "
+                            "with positive sizes)",
+                            cont);
         goto done;
     }
     if (an > 0 && (voxel > 0 || grid || inside_set || has_iso)) {
-        status = vp_cli_die(2, "check: --voxel-size, --grid, --inside and --iso need a mesh or "
-                               ".vdb container, not '%s'", cont);
+        status = vp_cli_die(2,
+                            "check: --voxel-size, --grid, --inside and --iso need a mesh or "
+                            ".vdb container, not '%s'",
+                            cont);
         goto done;
     }
     if (an == 0) {
@@ -367,10 +371,11 @@ int vp_cli_check(int argc, char **argv) {
     if ((status = vp_cli_flush_stdout(0)) != 0) goto done;
     if (bad && (quiet || json)) {
         if (rep.imprecise)
-            fprintf(stderr, "vdbpack: check: %s: positions stored to within %.3g, %.3g of the "
-                            "smallest radius (more than %.3g): too coarse to check; %zu "
-                            "overlapping pairs, %zu particles outside\n", file,
-                    p->position_error, rep.position_error_ratio, cp.position_tolerance,
+            fprintf(stderr,
+                    "vdbpack: check: %s: positions stored to within %.3g, %.3g of the "
+                    "smallest radius (more than %.3g): too coarse to check; %zu "
+                    "overlapping pairs, %zu particles outside\n",
+                    file, p->position_error, rep.position_error_ratio, cp.position_tolerance,
                     rep.overlapping_pairs, rep.outside);
         else
             fprintf(stderr, "vdbpack: check: %s: %zu overlapping pairs, %zu particles outside\n",

@@ -69,8 +69,7 @@ int vp_cli_parse_sizes(const char *opt, const char *text, struct vp_size_dist *o
 /* Parses one --pass; a shape= that is no built-in name is a mesh file:
  * its name in mesh_file (size mesh_len; "" for the others), loaded by the
  * caller. */
-int vp_cli_parse_pass(const char *text, struct vp_rsa_pass *out, char *mesh_file,
-                      size_t mesh_len);
+int vp_cli_parse_pass(const char *text, struct vp_rsa_pass *out, char *mesh_file, size_t mesh_len);
 /* SIGINT/SIGTERM handling (signals.c). install() once; interrupted() is
  * the signal received (0 if none); track_output() names a finished output
  * to remove if interrupted; done() once every output is final;

@@ -41,8 +41,10 @@ int vp_cli_output_format(const char *cmd, const char *path, const char *format, 
         if (vp_format_parse(format, &f) != 0)
             return vp_cli_die(2, "%s: unknown --format '%s' (vdb, ply, csv, obj)", cmd, format);
     } else if ((f = vp_format_from_path(path)) == VP_FORMAT_UNKNOWN) {
-        return vp_cli_die(2, "%s: cannot tell the format of '%s' from its extension: name it .vdb, "
-                             ".ply, .csv or .obj, or give --format", cmd, path);
+        return vp_cli_die(2,
+                          "%s: cannot tell the format of '%s' from its extension: name it .vdb, "
+                          ".ply, .csv or .obj, or give --format",
+                          cmd, path);
     }
     *out = (int)f;
     return 0;
@@ -59,8 +61,9 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
         int v = 0, f = 0;
         vp_export_obj_counts(p->shape, ep.sphere_subdivisions, &v, &f);
         if (bytes > VP_CLI_OBJ_WARN_BYTES || p->count > VP_CLI_OBJ_WARN_COUNT)
-            fprintf(stderr, "vdbpack: warning: %s: %zu particles of %d vertices and %d faces make "
-                            "about %.1f GB of OBJ; .ply or .vdb with instancing is far smaller\n",
+            fprintf(stderr,
+                    "vdbpack: warning: %s: %zu particles of %d vertices and %d faces make "
+                    "about %.1f GB of OBJ; .ply or .vdb with instancing is far smaller\n",
                     path, p->count, v, f, bytes / 1e9);
     }
     if (format == VP_FORMAT_PLY && !quiet && p->count) {
@@ -74,10 +77,11 @@ int vp_cli_write_particles(vp_context *ctx, const char *path, int format, const 
         double half_ulp = cmax > 0 ? ldexp(1.0, ilogb(cmax) - 24) : 0.0; /* float rounding */
         /* (past the largest float the writer refuses: that line alone) */
         if (rmin > 0 && cmax <= FLT_MAX && sqrt(3.0) * half_ulp > 1e-4 * rmin)
-            fprintf(stderr, "vdbpack: warning: %s: PLY stores positions as 32-bit floats, which "
-                            "at coordinates up to %.6g round by up to %.3g (%.2g %% of the "
-                            "smallest radius): touching particles may overlap in it; .vdb and "
-                            ".csv keep them, or move the container near the origin\n",
+            fprintf(stderr,
+                    "vdbpack: warning: %s: PLY stores positions as 32-bit floats, which "
+                    "at coordinates up to %.6g round by up to %.3g (%.2g %% of the "
+                    "smallest radius): touching particles may overlap in it; .vdb and "
+                    ".csv keep them, or move the container near the origin\n",
                     path, cmax, sqrt(3.0) * half_ulp, 100.0 * sqrt(3.0) * half_ulp / rmin);
     }
     if (vp_export(ctx, path, p, &ep) != VP_OK) return 1;
@@ -108,8 +112,10 @@ int vp_cli_convert(int argc, char **argv) {
             if (vp_cli_once(&seen, "convert", a, v)) return 2;
             i++;
             if (vp_cli_parse_size(v, &max_memory) != 0)
-                return vp_cli_die(2, "convert: --max-memory must be a size such as 8G or 500M, "
-                                     "not '%s'", v);
+                return vp_cli_die(2,
+                                  "convert: --max-memory must be a size such as 8G or 500M, "
+                                  "not '%s'",
+                                  v);
         } else if (!strcmp(a, "--format") || !strcmp(a, "--shape") || !strcmp(a, "--precision")) {
             if (!v) return vp_cli_die(2, "convert: %s needs a value", a);
             if (vp_cli_once(&seen, "convert", a, v)) return 2;
@@ -138,17 +144,22 @@ int vp_cli_convert(int argc, char **argv) {
         }
     }
     if (!in || !out || !*in || !*out)
-        return vp_cli_die(2, "convert: give an input and an output file (see vdbpack convert --help)");
+        return vp_cli_die(2,
+                          "convert: give an input and an output file (see vdbpack convert --help)");
     vp_shape shape = VP_SHAPE_SPHERE;
     double shape_param = 0.0;
     int sr = shape_name ? vp_shape_parse_param(shape_name, &shape, &shape_param) : 0;
     if (sr == -2)
-        return vp_cli_die(2, "convert: --shape '%s': a superball's exponent P (superball:P) must "
-                             "be a number in [0.5, 1000]", shape_name);
+        return vp_cli_die(2,
+                          "convert: --shape '%s': a superball's exponent P (superball:P) must "
+                          "be a number in [0.5, 1000]",
+                          shape_name);
     if (sr != 0 || shape == VP_SHAPE_MESH)
-        return vp_cli_die(2, "convert: unknown --shape '%s' (sphere, a platonic or Archimedean "
-                             "solid such as cube or truncated-octahedron (vdbpack pack --help "
-                             "lists them), superball:P)", shape_name);
+        return vp_cli_die(2,
+                          "convert: unknown --shape '%s' (sphere, a platonic or Archimedean "
+                          "solid such as cube or truncated-octahedron (vdbpack pack --help "
+                          "lists them), superball:P)",
+                          shape_name);
     vp_format in_fmt = vp_format_from_path(in);
     if (in_fmt == VP_FORMAT_UNKNOWN || in_fmt == VP_FORMAT_OBJ)
         return vp_cli_die(2, "convert: cannot read '%s': the input must be .vdb, .ply or .csv", in);
@@ -179,20 +190,26 @@ int vp_cli_convert(int argc, char **argv) {
     for (size_t i = 0; i < p->count; i++) { /* a points grid without pscale reads as 0 */
         double r = p->radii ? (double)p->radii[i] : (double)p->uniform_radius;
         if (!(r > 0) || !isfinite(r)) {
-            status = vp_cli_die(1, "%s: particle %zu has no positive radius (pscale missing or "
-                                   "%g): a packing needs P and pscale", in, i, r);
+            status = vp_cli_die(1,
+                                "%s: particle %zu has no positive radius (pscale missing or "
+                                "%g): a packing needs P and pscale",
+                                in, i, r);
             goto done;
         }
         if (!p->radii) break;
     }
     if (shape_name && shape == VP_SHAPE_SPHERE && p->has_orient) {
-        status = vp_cli_die(1, "%s: has orientations (qx..qw), which spheres do not carry: give "
-                               "the solid's --shape", in);
+        status = vp_cli_die(1,
+                            "%s: has orientations (qx..qw), which spheres do not carry: give "
+                            "the solid's --shape",
+                            in);
         goto done;
     }
     if (needs_shape && !shape_name) {
-        status = vp_cli_die(1, "%s: has orientations but does not record the particle shape: give "
-                               "--shape NAME", in);
+        status = vp_cli_die(1,
+                            "%s: has orientations but does not record the particle shape: give "
+                            "--shape NAME",
+                            in);
         goto done;
     }
     if (shape_name) {
@@ -228,8 +245,8 @@ int vp_cli_convert(int argc, char **argv) {
     if (!quiet) {
         char what[96];
         vp_cli_shape_count(what, sizeof what, p->count, p->shape);
-        printf("vdbpack: converted %s from %s (%s) to %s (%s)\n", what, in,
-               vp_format_name(in_fmt), out, vp_format_name((vp_format)out_fmt));
+        printf("vdbpack: converted %s from %s (%s) to %s (%s)\n", what, in, vp_format_name(in_fmt),
+               out, vp_format_name((vp_format)out_fmt));
     }
     if (!quiet && out_fmt == VP_FORMAT_VDB && wrep.promoted) vp_cli_print_promoted(&wrep);
     /* the summary lost (stdout on a full disk): an error, which leaves no

@@ -89,7 +89,7 @@ static int run_command(int argc, char **argv) {
          * crash in a child process */
         printf("file readers (Assimp, OpenVDB): %s\n",
                vp_readers_isolated() ? "checked in a child process first"
-                                            : "in-process (sanitizer or fuzz build)");
+                                     : "in-process (sanitizer or fuzz build)");
         return 0;
     }
     if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {

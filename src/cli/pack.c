@@ -25,14 +25,14 @@ typedef struct progress {
     const vp_context *ctx; /* for the stage's counts */
     double start;
     int shown;
-    int bar;        /* draw a bar (stderr is a terminal) */
-    int lines;      /* --progress: one line per stage, no bar */
-    double last;    /* when the bar was last drawn (at most 10 times a second) */
+    int bar;             /* draw a bar (stderr is a terminal) */
+    int lines;           /* --progress: one line per stage, no bar */
+    double last;         /* when the bar was last drawn (at most 10 times a second) */
     const char *phase;   /* the run's phase ("packing") */
     double base, weight; /* the phase spans [base, base + weight] of the bar */
-    double local;   /* the phase's largest fraction so far */
-    double done;    /* the bar's fraction: never decreases */
-    char stage[48]; /* the last stage printed by --progress */
+    double local;        /* the phase's largest fraction so far */
+    double done;         /* the bar's fraction: never decreases */
+    char stage[48];      /* the last stage printed by --progress */
 } progress;
 
 static double now(void) {
@@ -83,15 +83,16 @@ static int on_progress(void *user, double fraction, const char *stage) {
     if (p->done >= 0.02) snprintf(left, sizeof left, ", %.0f s left", el * (1 - p->done) / p->done);
     uint64_t cd = 0, ct = 0;
     if (vp_context_progress_counts(p->ctx, &cd, &ct)) {
-        if (ct) snprintf(counts, sizeof counts, " %llu of %llu", (unsigned long long)cd,
-                         (unsigned long long)ct);
+        if (ct)
+            snprintf(counts, sizeof counts, " %llu of %llu", (unsigned long long)cd,
+                     (unsigned long long)ct);
         else snprintf(counts, sizeof counts, " %llu placed", (unsigned long long)cd);
     }
     char mid[64];
     snprintf(mid, sizeof mid, "%s%s", stage ? stage : "", counts);
     fprintf(stderr, "\r[%.*s%*s] %3d%% %s: %-26.26s %.0f s%-14s", filled,
-            "##############################", w - filled, "", (int)(p->done * 100 + 0.5),
-            p->phase, mid, el, left);
+            "##############################", w - filled, "", (int)(p->done * 100 + 0.5), p->phase,
+            mid, el, left);
     fflush(stderr);
     p->shown = 1;
     return 1;
@@ -128,8 +129,9 @@ static int load_pass_shapes(vp_context *ctx, pack_opts *o) {
         if (!m) {
             struct stat st;
             if (stat(file, &st) != 0)
-                return vp_cli_die(2, "pack: --pass %d: shape '%s' is no shape name (sphere, a "
-                                     "platonic or Archimedean solid, superball:P) and no file",
+                return vp_cli_die(2,
+                                  "pack: --pass %d: shape '%s' is no shape name (sphere, a "
+                                  "platonic or Archimedean solid, superball:P) and no file",
                                   i + 1, file);
             if (vp_mesh_shape_load(ctx, file, &o->pass_mesh[i]) != VP_OK)
                 return vp_cli_die(1, "pack: --pass %d: %s", i + 1, vp_context_message(ctx));
@@ -190,8 +192,9 @@ static int margin_check(const pack_opts *o, const vp_container_info *ci) {
     for (int k = 0; k < 3; k++) in = fmin(in, 0.5 * (ci->bmax[k] - ci->bmin[k]));
     double r = o->fit == VP_FIT_INSIDE ? smallest_radius(o, ci) : 0.0;
     if (o->margin + r < in) return 0;
-    return vp_cli_die(2, "pack: --margin %g%s leave%s no room in %s, whose inradius is %g", o->margin,
-                      r > 0 ? " and the smallest radius" : "", r > 0 ? "" : "s", o->container, in);
+    return vp_cli_die(2, "pack: --margin %g%s leave%s no room in %s, whose inradius is %g",
+                      o->margin, r > 0 ? " and the smallest radius" : "", r > 0 ? "" : "s",
+                      o->container, in);
 }
 
 /* Lattice --count: the radius the packer starts from (the infinite
@@ -227,10 +230,12 @@ static int jam_count_check(const pack_opts *o, const vp_container_info *ci) {
     int equal = vp_size_dist_min(&o->sizes) == vp_size_dist_max(&o->sizes);
     double most = equal ? 0.7405 : 1.0;
     if (v <= most * ci->volume) return 0;
-    return vp_cli_die(1, "pack: %llu spheres of radius %s fill %.3g times the container's volume, "
-                         "more than %s; use fewer or smaller spheres (or leave out --radius: jam "
-                         "then finds the radius)", (unsigned long long)o->count, o->radius_text,
-                      v / ci->volume, equal ? "equal spheres can fill (0.7405)" : "it has");
+    return vp_cli_die(1,
+                      "pack: %llu spheres of radius %s fill %.3g times the container's volume, "
+                      "more than %s; use fewer or smaller spheres (or leave out --radius: jam "
+                      "then finds the radius)",
+                      (unsigned long long)o->count, o->radius_text, v / ci->volume,
+                      equal ? "equal spheres can fill (0.7405)" : "it has");
 }
 
 /* A radius that a .vdb cannot hold (positions to within VP_POSITION_ERROR_LIMIT
@@ -241,9 +246,10 @@ static int vdb_radius_check(const pack_opts *o, const vp_container_info *ci, dou
     for (int k = 0; k < 3; k++) m = fmax(m, fmax(fabs(ci->bmin[k]), fabs(ci->bmax[k])));
     double least = vp_points_min_radius(m);
     if (r >= least) return 0;
-    return vp_cli_die(2, "pack: radius %g is too small for a .vdb: OpenVDB's points grid stores "
-                         "positions%s only to within %.3g, more than %g of it (radii from %.3g "
-                         "fit); write .csv or .ply instead, or scale the scene up",
+    return vp_cli_die(2,
+                      "pack: radius %g is too small for a .vdb: OpenVDB's points grid stores "
+                      "positions%s only to within %.3g, more than %g of it (radii from %.3g "
+                      "fit); write .csv or .ply instead, or scale the scene up",
                       r, m > 536870912.0 * VP_POINTS_MIN_VOXEL ? " this far from the origin" : "",
                       least * VP_POSITION_ERROR_LIMIT, VP_POSITION_ERROR_LIMIT, least);
 }
@@ -261,8 +267,10 @@ static int load_fields(vp_context *ctx, pack_opts *o) {
             vp_field_info fi;
             vp_field_get_info(f->radius_field, &fi);
             if (!(fi.max > 0))
-                return vp_cli_die(1, "%s: the radius field has no positive value (largest %g); "
-                                     "radii must be positive", f->radius.path, fi.max);
+                return vp_cli_die(1,
+                                  "%s: the radius field has no positive value (largest %g); "
+                                  "radii must be positive",
+                                  f->radius.path, fi.max);
             for (int i = 0; i < o->npasses; i++)
                 vp_size_dist_constant(&o->passes[i].radius, fi.max);
             vp_size_dist_constant(&o->sizes, fi.max); /* relax, jam: replaced by the field */
@@ -284,8 +292,10 @@ static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c) {
     int an = vp_cli_analytic_container(ctx, f->mask.text, &m);
     if (an == -2) return vp_cli_die(2, "pack: --mask: %s", vp_context_message(ctx));
     if (an < 0)
-        return vp_cli_die(2, "pack: malformed analytic --mask '%s' (sphere:R or box:X,Y,Z with "
-                             "positive sizes)", f->mask.text);
+        return vp_cli_die(2,
+                          "pack: malformed analytic --mask '%s' (sphere:R or box:X,Y,Z with "
+                          "positive sizes)",
+                          f->mask.text);
     vp_container_info ci;
     vp_container_get_info(*c, &ci);
     /* the distances a packer needs outside the mask: the largest radius
@@ -321,9 +331,11 @@ static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c) {
     vp_container_info mi;
     vp_container_get_info(cm, &mi);
     if (need > 0 && mi.interior_band < need)
-        return vp_cli_die(1, "pack: --mask %s: its level set holds distances only %g outside "
-                             "it, and the particles need %g (radius and margin); give a mask "
-                             "with a wider exterior band", f->mask.text, mi.interior_band, need);
+        return vp_cli_die(1,
+                          "pack: --mask %s: its level set holds distances only %g outside "
+                          "it, and the particles need %g (radius and margin); give a mask "
+                          "with a wider exterior band",
+                          f->mask.text, mi.interior_band, need);
     return 0;
 }
 
@@ -331,13 +343,11 @@ static int apply_mask(vp_context *ctx, pack_opts *o, vp_container **c) {
  * radii positive, a density not negative), each named by its file. */
 static int check_fields(vp_context *ctx, pack_opts *o, const vp_container *c) {
     pack_fields *f = &o->fields;
-    if (f->radius_field &&
-        vp_field_check(ctx, f->radius_field, f->radius.text, "radius field", 1, c, &f->rmin,
-                       &f->rmax) != VP_OK)
+    if (f->radius_field && vp_field_check(ctx, f->radius_field, f->radius.text, "radius field", 1,
+                                          c, &f->rmin, &f->rmax) != VP_OK)
         return lib_error(ctx);
-    if (f->density_field &&
-        vp_field_check(ctx, f->density_field, f->density.text, "density field", 0, c, NULL,
-                       NULL) != VP_OK)
+    if (f->density_field && vp_field_check(ctx, f->density_field, f->density.text, "density field",
+                                           0, c, NULL, NULL) != VP_OK)
         return lib_error(ctx);
     return 0;
 }
@@ -355,8 +365,8 @@ static void field_band(const pack_opts *o, vp_container_params *cp) {
     if (k > 8) k = 8;
     if (!strcmp(o->method, "relax") && !(o->target_fraction > 0) && fi.max > 0) {
         /* radii as the field makes them: times it, or it */
-        cp->particle_radius = o->fields.mode == VP_FIELD_SCALE ? cp->particle_radius * fi.max
-                                                               : fi.max;
+        cp->particle_radius =
+            o->fields.mode == VP_FIELD_SCALE ? cp->particle_radius * fi.max : fi.max;
         return;
     }
     cp->particle_radius *= k;
@@ -458,8 +468,8 @@ static void container_params(const pack_opts *o, vp_container_params *cp) {
     }
 }
 
-static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o,
-                            vp_particles **p, run_result *rr) {
+static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o, vp_particles **p,
+                            run_result *rr) {
     memset(rr, 0, sizeof *rr);
     vp_result r;
     if (!strcmp(o->method, "lattice")) {
@@ -498,14 +508,17 @@ static vp_result run_method(vp_context *ctx, const vp_container *c, pack_opts *o
 /* A lattice --count whose radius (estimated: about "about ") is below
  * float's smallest normal value, which pscale cannot hold: exit 2. */
 static int count_radius_too_small(const pack_opts *o, const char *about, double r) {
-    return vp_cli_die(2, "pack: --count %llu in %s gives a radius of %s%g, below 1.2e-38 (radii "
-                         "are stored as float): ask for fewer particles",
+    return vp_cli_die(2,
+                      "pack: --count %llu in %s gives a radius of %s%g, below 1.2e-38 (radii "
+                      "are stored as float): ask for fewer particles",
                       (unsigned long long)o->count, o->container, about, r);
 }
 
 static int malformed_analytic(const char *spec) {
-    return vp_cli_die(2, "pack: malformed analytic container '%s' (sphere:R or box:X,Y,Z with "
-                         "positive sizes)", spec);
+    return vp_cli_die(2,
+                      "pack: malformed analytic container '%s' (sphere:R or box:X,Y,Z with "
+                      "positive sizes)",
+                      spec);
 }
 
 int vp_cli_pack_parse_only(int argc, char **argv) {
@@ -519,8 +532,8 @@ int vp_cli_pack_parse_only(int argc, char **argv) {
     int an = vp_cli_analytic_container(ctx, o.container, &c);
     vp_container_destroy(c);
     rc = an == -2 ? vp_cli_die(2, "pack: %s", vp_context_message(ctx))
-             : an < 0 ? malformed_analytic(o.container)
-                      : 0;
+         : an < 0 ? malformed_analytic(o.container)
+                  : 0;
     vp_context_destroy(ctx);
     return rc;
 }
@@ -534,16 +547,16 @@ typedef struct pack_job {
     double t0;
     vp_context *ctx;
     progress prog;
-    vp_mesh_shape *mesh;       /* --shape FILE, loaded */
+    vp_mesh_shape *mesh; /* --shape FILE, loaded */
     vp_container *c;
     vp_container_info ci;
     vp_particles *p;
     run_result rr;
     double fraction;
     vp_write_report wrep;
-    const char *created[2];    /* written so far (removed on failure) */
+    const char *created[2]; /* written so far (removed on failure) */
     int ncreated;
-    int nshort;                /* passes that placed fewer than asked */
+    int nshort; /* passes that placed fewer than asked */
     size_t short_asked, short_placed;
 } pack_job;
 
@@ -560,8 +573,10 @@ static int job_start(pack_job *j) {
     if (!o->threads && getenv("VDBPACK_THREADS")) {
         const char *e = getenv("VDBPACK_THREADS");
         if (vp_cli_parse_u64(e, &o->threads) != 0 || o->threads == 0 || o->threads > 256)
-            return vp_cli_die(2, "pack: VDBPACK_THREADS must be a whole number in 1..256, not "
-                                 "'%s'", e);
+            return vp_cli_die(2,
+                              "pack: VDBPACK_THREADS must be a whole number in 1..256, not "
+                              "'%s'",
+                              e);
     }
     if (o->threads) vp_context_set_threads(j->ctx, (int)o->threads);
     if (o->max_memory) vp_context_set_max_memory(j->ctx, o->max_memory);
@@ -602,8 +617,10 @@ static int job_load_container(pack_job *j) {
         progress_phase(&j->prog, "loading", 0.3);
         if (vp_container_load(j->ctx, o->container, &cp, &j->c) != VP_OK) return lib_error(j->ctx);
     } else if (o->voxel_size > 0 || o->grid || o->save_container || o->inside_set || o->has_iso) {
-        return vp_cli_die(2, "pack: --voxel-size, --grid, --inside, --iso and --save-container "
-                             "need a mesh or .vdb container, not '%s'", o->container);
+        return vp_cli_die(2,
+                          "pack: --voxel-size, --grid, --inside, --iso and --save-container "
+                          "need a mesh or .vdb container, not '%s'",
+                          o->container);
     }
     int status = apply_mask(j->ctx, o, &j->c);
     if (!status) status = check_fields(j->ctx, o, j->c);
@@ -621,17 +638,21 @@ static int job_check_sizes(pack_job *j) {
     /* a mesh this small packs (voxelized in scaled units), but OpenVDB's
      * transforms cannot hold its level set in a file: said before packing */
     if (o->save_container && ci->voxel_size > 0 && ci->voxel_size < VP_POINTS_MIN_VOXEL)
-        return vp_cli_die(2, "pack: --save-container %s: the container's voxel size %g is "
-                             "below the smallest a .vdb can hold (%g); give --voxel-size %g "
-                             "or more, or scale the mesh up", o->save_container,
-                          ci->voxel_size, VP_POINTS_MIN_VOXEL, VP_POINTS_MIN_VOXEL);
+        return vp_cli_die(2,
+                          "pack: --save-container %s: the container's voxel size %g is "
+                          "below the smallest a .vdb can hold (%g); give --voxel-size %g "
+                          "or more, or scale the mesh up",
+                          o->save_container, ci->voxel_size, VP_POINTS_MIN_VOXEL,
+                          VP_POINTS_MIN_VOXEL);
     if (o->rsa_count_radius) {
         double r = rsa_count_radius(o, ci);
         if (!(r >= FLT_MIN) || !(r <= FLT_MAX)) return count_radius_too_small(o, "", r);
         vp_size_dist_constant(&o->passes[0].radius, r);
         if (o->gap > 0 && !(o->gap < r))
-            return vp_cli_die(2, "pack: --gap %g must be smaller than the radius %g that "
-                                 "--count %llu gives", o->gap, r, (unsigned long long)o->count);
+            return vp_cli_die(2,
+                              "pack: --gap %g must be smaller than the radius %g that "
+                              "--count %llu gives",
+                              o->gap, r, (unsigned long long)o->count);
     }
     int status = margin_check(o, ci);
     if (status) return status;
@@ -649,8 +670,9 @@ static int job_pack(pack_job *j) {
     if (run_method(j->ctx, j->c, o, &j->p, &j->rr) != VP_OK) return lib_error(j->ctx);
     if (!strcmp(o->method, "lattice") && !(j->rr.lat.radius >= FLT_MIN))
         return count_radius_too_small(o, "", j->rr.lat.radius);
-    if (o->mesh) snprintf(o->default_shape_text, sizeof o->default_shape_text, "mesh:%.280s",
-                          vp_mesh_shape_name(o->mesh));
+    if (o->mesh)
+        snprintf(o->default_shape_text, sizeof o->default_shape_text, "mesh:%.280s",
+                 vp_mesh_shape_name(o->mesh));
     else snprintf(o->default_shape_text, sizeof o->default_shape_text, "%s", o->shape_text);
     if (o->pass_shapes) { /* the shapes are those the passes made */
         o->mixed = j->p->shape == VP_SHAPE_MIXED;
@@ -716,9 +738,9 @@ static int job_write_packing(pack_job *j) {
         meta[nmeta++] = (vp_meta){"shape_file", VP_META_STRING, vp_mesh_shape_name(o->mesh), 0, 0};
     char shape_list[4096];
     if (o->mixed)
-        meta[nmeta++] = (vp_meta){"shapes", VP_META_STRING,
-                                  vp_particles_shape_list(j->p, shape_list, sizeof shape_list), 0,
-                                  0};
+        meta[nmeta++] =
+            (vp_meta){"shapes", VP_META_STRING,
+                      vp_particles_shape_list(j->p, shape_list, sizeof shape_list), 0, 0};
     if (ci->kind == VP_CONTAINER_MESH)
         meta[nmeta++] = (vp_meta){"inside", VP_META_STRING, vp_inside_name(o->inside), 0, 0};
     if (o->has_iso) meta[nmeta++] = (vp_meta){"iso", VP_META_DOUBLE, NULL, 0, o->iso};
@@ -745,8 +767,8 @@ static int job_write_packing(pack_job *j) {
         meta[nmeta++] = (vp_meta){"placed", VP_META_STRING, placed_text, 0, 0};
         meta[nmeta++] = (vp_meta){"short", VP_META_INT, NULL, j->nshort > 0, 0};
         if (o->rsa_count_radius)
-            meta[nmeta++] = (vp_meta){"target_fraction", VP_META_DOUBLE, NULL, 0,
-                                      o->target_fraction};
+            meta[nmeta++] =
+                (vp_meta){"target_fraction", VP_META_DOUBLE, NULL, 0, o->target_fraction};
         if (o->shape != VP_SHAPE_SPHERE) {
             meta[nmeta++] = (vp_meta){"orient", VP_META_STRING,
                                       o->orient == VP_ORIENT_FIXED ? "fixed" : "random", 0, 0};
@@ -759,8 +781,8 @@ static int job_write_packing(pack_job *j) {
         meta[nmeta++] = (vp_meta){"radius_scale", VP_META_DOUBLE, NULL, 0, rr->jam.radius_scale};
         meta[nmeta++] = (vp_meta){"max_overlap", VP_META_DOUBLE, NULL, 0, rr->jam.max_overlap};
         meta[nmeta++] = (vp_meta){"mean_contacts", VP_META_DOUBLE, NULL, 0, rr->jam.mean_contacts};
-        meta[nmeta++] = (vp_meta){"rattler_fraction", VP_META_DOUBLE, NULL, 0,
-                                  rr->jam.rattler_fraction};
+        meta[nmeta++] =
+            (vp_meta){"rattler_fraction", VP_META_DOUBLE, NULL, 0, rr->jam.rattler_fraction};
         meta[nmeta++] = (vp_meta){"core_fraction", VP_META_DOUBLE, NULL, 0, rr->jam.core_fraction};
     } else {
         vp_size_dist_format(&o->sizes, method_params, sizeof method_params);
@@ -815,10 +837,9 @@ static int job_report(pack_job *j) {
     if (j->prog.shown) fprintf(stderr, "\r%*s\r", 96, "");
     progress_end(&j->prog);
     if (o->json)
-        pack_print_json(o, &j->ci, j->p, &j->rr, &j->wrep, j->fraction,
-                        vp_context_threads(j->ctx), seconds);
-    else if (!o->quiet)
-        pack_print_summary(o, &j->ci, j->p, &j->rr, &j->wrep, j->fraction, seconds);
+        pack_print_json(o, &j->ci, j->p, &j->rr, &j->wrep, j->fraction, vp_context_threads(j->ctx),
+                        seconds);
+    else if (!o->quiet) pack_print_summary(o, &j->ci, j->p, &j->rr, &j->wrep, j->fraction, seconds);
     int status = vp_cli_flush_stdout(0);
     if (status) {
         const char *outs[4] = {o->output, o->save_container, o->shape_out, o->preview};
@@ -827,9 +848,10 @@ static int job_report(pack_job *j) {
     } else if (j->nshort) {
         /* packed, but short: the file stays, a script sees it */
         if (!o->quiet)
-            fprintf(stderr, "vdbpack: warning: packed, but short: placed %zu of the %zu "
-                            "particles asked for in %d %s; %s\n", j->short_placed,
-                    j->short_asked, j->nshort, j->nshort == 1 ? "pass" : "passes",
+            fprintf(stderr,
+                    "vdbpack: warning: packed, but short: placed %zu of the %zu "
+                    "particles asked for in %d %s; %s\n",
+                    j->short_placed, j->short_asked, j->nshort, j->nshort == 1 ? "pass" : "passes",
                     o->allow_short ? "exit status 0 (--allow-short)"
                                    : "exit status 4 (--allow-short makes it 0)");
         if (!o->allow_short) status = VP_CLI_EXIT_SHORT;

@@ -23,9 +23,9 @@
  * FILE.vdb[:GRID] with --radius-field-mode scale|absolute and
  * --density-field FILE.vdb[:GRID] (rsa). */
 typedef struct field_arg {
-    const char *text;       /* as given, or NULL */
-    char path[4096];        /* the file (text without :GRID) */
-    const char *grid;       /* points into text after ".vdb:", or NULL */
+    const char *text; /* as given, or NULL */
+    char path[4096];  /* the file (text without :GRID) */
+    const char *grid; /* points into text after ".vdb:", or NULL */
 } field_arg;
 
 typedef struct pack_fields {
@@ -33,8 +33,8 @@ typedef struct pack_fields {
     vp_field_mode mode;
     int mode_set;
     vp_field *radius_field, *density_field; /* loaded; owned by vp_cli_pack */
-    double rmin, rmax;      /* the radius field's range over the container */
-    double mask_voxel;      /* a mesh or level-set mask's voxel (metadata, for check) */
+    double rmin, rmax;                      /* the radius field's range over the container */
+    double mask_voxel;           /* a mesh or level-set mask's voxel (metadata, for check) */
     vp_container *base, *mask_c; /* with --mask: the container and the mask, which
                                     the masked container borrows (freed after it) */
 } pack_fields;
@@ -42,30 +42,30 @@ typedef struct pack_fields {
 typedef struct pack_opts {
     const char *container;
     const char *output;
-    const char *format;     /* --format, or NULL: by the output's extension */
-    int out_format;         /* vp_format of the output */
+    const char *format; /* --format, or NULL: by the output's extension */
+    int out_format;     /* vp_format of the output */
     const char *method;
     vp_shape shape;
-    double shape_param;     /* superball: the exponent */
-    char shape_text[64];    /* the shape as files record it ("superball:2") */
-    const char *shape_file; /* --shape FILE: a mesh (shape == VP_SHAPE_MESH) */
+    double shape_param;        /* superball: the exponent */
+    char shape_text[64];       /* the shape as files record it ("superball:2") */
+    const char *shape_file;    /* --shape FILE: a mesh (shape == VP_SHAPE_MESH) */
     const vp_mesh_shape *mesh; /* loaded from shape_file before packing */
-    int orient;             /* -1 unset, else vp_orient_mode */
-    int overlap;            /* -1 unset, else vp_overlap_mode */
+    int orient;                /* -1 unset, else vp_orient_mode */
+    int overlap;               /* -1 unset, else vp_overlap_mode */
     vp_lattice lattice;
     vp_fit fit;
-    double radius;          /* lattice: the radius */
+    double radius; /* lattice: the radius */
     const char *radius_text;
-    vp_size_dist sizes;     /* rsa/relax: --radius as a distribution */
+    vp_size_dist sizes; /* rsa/relax: --radius as a distribution */
     uint64_t count;
-    int count_max;          /* rsa: --count max */
+    int count_max; /* rsa: --count max */
     vp_rsa_pass passes[VP_MAX_GROUPS];
     int npasses;
     char pass_mesh_file[VP_MAX_GROUPS][1024]; /* --pass shape=FILE ("" for the others) */
     vp_mesh_shape *pass_mesh[VP_MAX_GROUPS];  /* loaded from them (owned; NULL where a
                                                  pass reuses an earlier one's) */
-    int pass_shapes;        /* some --pass has shape= */
-    int mixed;              /* the packing holds several shapes (VP_SHAPE_MIXED) */
+    int pass_shapes;                          /* some --pass has shape= */
+    int mixed;                    /* the packing holds several shapes (VP_SHAPE_MIXED) */
     char default_shape_text[300]; /* --shape's (a mesh: "mesh:NAME"), the shape of
                                      the passes without their own */
     uint64_t retries;
@@ -78,26 +78,26 @@ typedef struct pack_opts {
     uint64_t rotations;
     uint64_t seed;
     double voxel_size;
-    vp_inside_mode inside;  /* --inside (meshes) */
+    vp_inside_mode inside; /* --inside (meshes) */
     int inside_set;
-    int has_iso;            /* --iso V (fog or density .vdb grids) */
+    int has_iso; /* --iso V (fog or density .vdb grids) */
     double iso;
     const char *grid;
     int full_precision;
     const char *save_container;
     const char *shape_out;
-    const char *preview;    /* --preview IMAGE.exr|.png */
+    const char *preview; /* --preview IMAGE.exr|.png */
     uint64_t threads;
     uint64_t max_memory;
     int json;
     int quiet;
-    int allow_short;        /* --allow-short: a shortfall exits 0 */
-    int progress;           /* --progress: one line per stage on stderr */
-    double margin;          /* --margin: distance kept from the wall (rsa) */
-    double gap;             /* --gap: distance kept between surfaces (rsa) */
-    int rsa_count_radius;   /* rsa --count N without --radius: the radius is
+    int allow_short;      /* --allow-short: a shortfall exits 0 */
+    int progress;         /* --progress: one line per stage on stderr */
+    double margin;        /* --margin: distance kept from the wall (rsa) */
+    double gap;           /* --gap: distance kept between surfaces (rsa) */
+    int rsa_count_radius; /* rsa --count N without --radius: the radius is
                                the one N fill target_fraction with */
-    pack_fields fields;     /* --mask, --radius-field, --density-field */
+    pack_fields fields;   /* --mask, --radius-field, --density-field */
 } pack_opts;
 
 /* --- progress (stderr) ------------------------------------------------------

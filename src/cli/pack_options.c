@@ -196,8 +196,10 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_die(2, "pack: a mesh --shape (%s) packs with --method rsa in this version",
                           o->shape_file);
     if ((relax || jam) && o->shape != VP_SHAPE_SPHERE)
-        return vp_cli_die(2, "pack: --method %s packs spheres in this version (--shape %s "
-                             "needs --method lattice or rsa)", m, vp_shape_name(o->shape));
+        return vp_cli_die(2,
+                          "pack: --method %s packs spheres in this version (--shape %s "
+                          "needs --method lattice or rsa)",
+                          m, vp_shape_name(o->shape));
     if ((o->orient >= 0 || o->overlap >= 0) && !(rsa && pack_any_solid(o)))
         return vp_cli_die(2, "pack: --orient and --overlap go with --method rsa and a --shape "
                              "(or a --pass shape=) other than sphere");
@@ -205,7 +207,8 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_die(2, "pack: --overlap bbox needs --orient fixed (the axis-aligned box "
                              "of a rotated solid does not bound it)");
     if (o->overlap < 0) o->overlap = VP_OVERLAP_EXACT;
-    if (o->orient < 0) o->orient = o->overlap == VP_OVERLAP_BBOX ? VP_ORIENT_FIXED : VP_ORIENT_RANDOM;
+    if (o->orient < 0)
+        o->orient = o->overlap == VP_OVERLAP_BBOX ? VP_ORIENT_FIXED : VP_ORIENT_RANDOM;
     /* Random packings have particles in contact (grow, relax) or nearly so:
      * 16-bit fixed-point positions (1/65536 of a points voxel) would turn
      * contacts into overlaps, so they default to full precision. */
@@ -215,10 +218,12 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
             return vp_cli_die(2, "pack: give either --radius or --count, not both");
         if (!have_radius && !have_count)
             return vp_cli_die(2, "pack: give the particle size with --radius R or --count N");
-        if (have_radius && (vp_cli_parse_double(o->radius_text, &o->radius) != 0 ||
-                            !(o->radius > 0)))
-            return vp_cli_die(2, "pack: --radius must be a positive number for --method lattice, "
-                                 "not '%s'%s", o->radius_text,
+        if (have_radius &&
+            (vp_cli_parse_double(o->radius_text, &o->radius) != 0 || !(o->radius > 0)))
+            return vp_cli_die(2,
+                              "pack: --radius must be a positive number for --method lattice, "
+                              "not '%s'%s",
+                              o->radius_text,
                               strchr(o->radius_text, ':')
                                   ? " (distributions of radii go with --method rsa, relax and "
                                     "jam)"
@@ -226,18 +231,23 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         /* as for rsa and relax (vp_size_dist_parse): a radius below a
          * normal float would be stored as a denormal or 0 */
         if (have_radius && !(o->radius >= FLT_MIN))
-            return vp_cli_die(2, "pack: --radius: size '%s': a radius must be at least 1.2e-38 "
-                                 "(radii are stored as float)", o->radius_text);
+            return vp_cli_die(2,
+                              "pack: --radius: size '%s': a radius must be at least 1.2e-38 "
+                              "(radii are stored as float)",
+                              o->radius_text);
         if (have_radius && !(o->radius <= FLT_MAX))
-            return vp_cli_die(2, "pack: --radius: size '%s': a radius must be at most 3.4e38 "
-                                 "(radii are stored as float)", o->radius_text);
+            return vp_cli_die(2,
+                              "pack: --radius: size '%s': a radius must be at most 3.4e38 "
+                              "(radii are stored as float)",
+                              o->radius_text);
         if (o->shape == VP_SHAPE_SPHERE && o->lattice == VP_LATTICE_DENSEST)
             o->lattice = VP_LATTICE_FCC;
         if (o->shape != VP_SHAPE_SPHERE && o->lattice != VP_LATTICE_DEFAULT &&
             o->lattice != VP_LATTICE_DENSEST)
-            return vp_cli_die(2, "pack: --lattice %s is for spheres; a %s packs on its densest "
-                                 "lattice (--lattice densest)", vp_lattice_name(o->lattice),
-                              vp_shape_name(o->shape));
+            return vp_cli_die(2,
+                              "pack: --lattice %s is for spheres; a %s packs on its densest "
+                              "lattice (--lattice densest)",
+                              vp_lattice_name(o->lattice), vp_shape_name(o->shape));
         return 0;
     }
     if (rsa) {
@@ -291,10 +301,12 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
             return vp_cli_die(2, "pack: --overlap bbox takes one shape; passes with a shape= of "
                                  "their own are tested exactly");
         for (int i = 0; i < o->npasses; i++) {
-            if (o->gap > 0 && !o->rsa_count_radius && !(o->gap < vp_size_dist_min(&o->passes[i].radius)))
-                return vp_cli_die(2, "pack: --gap %g must be smaller than the smallest radius "
-                                     "(%g, pass %d)", o->gap,
-                                  vp_size_dist_min(&o->passes[i].radius), i + 1);
+            if (o->gap > 0 && !o->rsa_count_radius &&
+                !(o->gap < vp_size_dist_min(&o->passes[i].radius)))
+                return vp_cli_die(2,
+                                  "pack: --gap %g must be smaller than the smallest radius "
+                                  "(%g, pass %d)",
+                                  o->gap, vp_size_dist_min(&o->passes[i].radius), i + 1);
             /* each pass its own point group: a name=passK given to another
              * pass than the K-th made two groups of one name, which the
              * .vdb writer refused after packing and CSV merged */
@@ -305,8 +317,10 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
                 snprintf(nk, sizeof nk, "%s", o->passes[k].name);
                 if (!nk[0]) snprintf(nk, sizeof nk, "pass%d", k + 1);
                 if (!strcmp(nk, ni))
-                    return vp_cli_die(2, "pack: passes %d and %d would both be group '%s'; give "
-                                         "each pass its own name=", k + 1, i + 1, ni);
+                    return vp_cli_die(2,
+                                      "pack: passes %d and %d would both be group '%s'; give "
+                                      "each pass its own name=",
+                                      k + 1, i + 1, ni);
             }
             if (o->retries && !o->passes[i].retries) o->passes[i].retries = (int)o->retries;
         }
@@ -329,7 +343,8 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
         return vp_cli_parse_sizes("--radius", o->radius_text, &o->sizes);
     }
     /* relax (with an absolute radius field, the field gives the radii) */
-    if (!have_radius && o->fields.radius.text && o->fields.mode == VP_FIELD_ABSOLUTE && have_count) {
+    if (!have_radius && o->fields.radius.text && o->fields.mode == VP_FIELD_ABSOLUTE &&
+        have_count) {
         vp_size_dist_constant(&o->sizes, 1.0);
         return 0;
     }
@@ -343,13 +358,47 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
  * and --opt value, unambiguous abbreviations (--rad for --radius), -- ends
  * the options. Each option's id, and the methods it goes with (0: all). */
 enum {
-    OPT_OUTPUT = 'o', OPT_QUIET = 'q', OPT_HELP = 'h',
-    OPT_FORMAT = 256, OPT_METHOD, OPT_SHAPE, OPT_ORIENT, OPT_OVERLAP, OPT_LATTICE, OPT_RADIUS,
-    OPT_COUNT, OPT_PASS, OPT_RETRIES, OPT_GROW, OPT_TARGET_FRACTION, OPT_TOLERANCE, OPT_FIT,
-    OPT_OFFSETS, OPT_ROTATE, OPT_ROTATIONS, OPT_SEED, OPT_VOXEL_SIZE, OPT_ALLOW_OPEN,
-    OPT_INSIDE, OPT_ISO, OPT_GRID, OPT_PRECISION, OPT_SAVE_CONTAINER, OPT_SHAPE_OUT,
-    OPT_PREVIEW, OPT_THREADS, OPT_MAX_MEMORY, OPT_JSON, OPT_ALLOW_SHORT, OPT_MARGIN, OPT_GAP,
-    OPT_PROGRESS, OPT_MASK, OPT_RADIUS_FIELD, OPT_RADIUS_FIELD_MODE, OPT_DENSITY_FIELD,
+    OPT_OUTPUT = 'o',
+    OPT_QUIET = 'q',
+    OPT_HELP = 'h',
+    OPT_FORMAT = 256,
+    OPT_METHOD,
+    OPT_SHAPE,
+    OPT_ORIENT,
+    OPT_OVERLAP,
+    OPT_LATTICE,
+    OPT_RADIUS,
+    OPT_COUNT,
+    OPT_PASS,
+    OPT_RETRIES,
+    OPT_GROW,
+    OPT_TARGET_FRACTION,
+    OPT_TOLERANCE,
+    OPT_FIT,
+    OPT_OFFSETS,
+    OPT_ROTATE,
+    OPT_ROTATIONS,
+    OPT_SEED,
+    OPT_VOXEL_SIZE,
+    OPT_ALLOW_OPEN,
+    OPT_INSIDE,
+    OPT_ISO,
+    OPT_GRID,
+    OPT_PRECISION,
+    OPT_SAVE_CONTAINER,
+    OPT_SHAPE_OUT,
+    OPT_PREVIEW,
+    OPT_THREADS,
+    OPT_MAX_MEMORY,
+    OPT_JSON,
+    OPT_ALLOW_SHORT,
+    OPT_MARGIN,
+    OPT_GAP,
+    OPT_PROGRESS,
+    OPT_MASK,
+    OPT_RADIUS_FIELD,
+    OPT_RADIUS_FIELD_MODE,
+    OPT_DENSITY_FIELD,
     OPT_LAST
 };
 
@@ -404,12 +453,21 @@ static const struct {
     int id;
     unsigned methods;
 } METHOD_OPTIONS[] = {
-    {OPT_LATTICE, M_LATTICE}, {OPT_OFFSETS, M_LATTICE}, {OPT_ROTATE, M_LATTICE},
-    {OPT_ROTATIONS, M_LATTICE}, {OPT_PASS, M_RSA}, {OPT_RETRIES, M_RSA}, {OPT_GROW, M_RSA},
-    {OPT_ORIENT, M_RSA}, {OPT_OVERLAP, M_RSA}, {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
+    {OPT_LATTICE, M_LATTICE},
+    {OPT_OFFSETS, M_LATTICE},
+    {OPT_ROTATE, M_LATTICE},
+    {OPT_ROTATIONS, M_LATTICE},
+    {OPT_PASS, M_RSA},
+    {OPT_RETRIES, M_RSA},
+    {OPT_GROW, M_RSA},
+    {OPT_ORIENT, M_RSA},
+    {OPT_OVERLAP, M_RSA},
+    {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
     {OPT_TOLERANCE, M_RELAX | M_JAM},
-    {OPT_MARGIN, M_RSA | M_RELAX | M_JAM}, {OPT_GAP, M_RSA | M_RELAX | M_JAM},
-    {OPT_RADIUS_FIELD, M_RSA | M_RELAX | M_JAM}, {OPT_RADIUS_FIELD_MODE, M_RSA | M_RELAX | M_JAM},
+    {OPT_MARGIN, M_RSA | M_RELAX | M_JAM},
+    {OPT_GAP, M_RSA | M_RELAX | M_JAM},
+    {OPT_RADIUS_FIELD, M_RSA | M_RELAX | M_JAM},
+    {OPT_RADIUS_FIELD_MODE, M_RSA | M_RELAX | M_JAM},
     {OPT_DENSITY_FIELD, M_RSA},
 };
 
@@ -431,8 +489,10 @@ static const char *dashed_name(int id) {
 }
 
 static unsigned method_bit(const char *m) {
-    return !strcmp(m, "lattice") ? M_LATTICE : !strcmp(m, "rsa") ? M_RSA
-           : !strcmp(m, "relax") ? M_RELAX : M_JAM;
+    return !strcmp(m, "lattice") ? M_LATTICE
+           : !strcmp(m, "rsa")   ? M_RSA
+           : !strcmp(m, "relax") ? M_RELAX
+                                 : M_JAM;
 }
 
 /* "rsa", "relax and jam", "rsa, relax and jam" */
@@ -444,7 +504,10 @@ static void methods_text(unsigned m, char *out, size_t len) {
     for (int k = 0; k < 4; k++) {
         if (!((m >> k) & 1)) continue;
         size_t at = strlen(out);
-        snprintf(out + at, len - at, "%s%s", n == 0 ? "" : n == total - 1 ? " and " : ", ",
+        snprintf(out + at, len - at, "%s%s",
+                 n == 0           ? ""
+                 : n == total - 1 ? " and "
+                                  : ", ",
                  names[k]);
         n++;
     }
@@ -477,7 +540,8 @@ static int option_error(int c, const char *arg) {
     }
     if (optopt >= OPT_FORMAT)
         return vp_cli_die(2, "pack: --%s takes no value ('%s')", option_name(optopt), arg);
-    if (optopt) return vp_cli_die(2, "pack: unknown option '-%c' (see vdbpack pack --help)", optopt);
+    if (optopt)
+        return vp_cli_die(2, "pack: unknown option '-%c' (see vdbpack pack --help)", optopt);
     if (!strncmp(arg, "--", 2)) {
         size_t n = strcspn(arg + 2, "=");
         char cands[512] = "";
@@ -510,16 +574,20 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
     case OPT_SHAPE: {
         int sr = vp_shape_parse_param(v, &o->shape, &o->shape_param);
         if (sr == -2)
-            return vp_cli_die(2, "pack: --shape '%s': a superball's exponent P "
-                                 "(superball:P) must be a number in [0.5, 1000] (convex "
-                                 "superballs; concave ones, P < 0.5, are not offered)", v);
+            return vp_cli_die(2,
+                              "pack: --shape '%s': a superball's exponent P "
+                              "(superball:P) must be a number in [0.5, 1000] (convex "
+                              "superballs; concave ones, P < 0.5, are not offered)",
+                              v);
         if (sr != 0) {
             /* not a built-in name: a mesh file, when it looks like one */
             if (!strchr(v, '.') && !strchr(v, '/'))
-                return vp_cli_die(2, "pack: unknown --shape '%s' (sphere, a platonic or "
-                                     "Archimedean solid such as cube or truncated-octahedron "
-                                     "(vdbpack pack --help lists them), superball:P, "
-                                     "or a closed mesh file such as shape.obj)", v);
+                return vp_cli_die(2,
+                                  "pack: unknown --shape '%s' (sphere, a platonic or "
+                                  "Archimedean solid such as cube or truncated-octahedron "
+                                  "(vdbpack pack --help lists them), superball:P, "
+                                  "or a closed mesh file such as shape.obj)",
+                                  v);
             o->shape = VP_SHAPE_MESH;
             o->shape_file = v;
         }
@@ -570,8 +638,7 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
     case OPT_TARGET_FRACTION:
         if (vp_cli_parse_double(v, &o->target_fraction) != 0 || !(o->target_fraction > 0) ||
             !(o->target_fraction < 1))
-            return vp_cli_die(2, "pack: --target-fraction must be a number in (0, 1), not '%s'",
-                              v);
+            return vp_cli_die(2, "pack: --target-fraction must be a number in (0, 1), not '%s'", v);
         break;
     case OPT_TOLERANCE:
         if (vp_cli_parse_double(v, &o->tolerance) != 0 || !(o->tolerance > 0) ||
@@ -590,10 +657,11 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
         break;
     case OPT_ROTATE: o->rotate = 1; break;
     case OPT_ROTATIONS:
-        if (vp_cli_parse_u64(v, &o->rotations) != 0 || o->rotations == 0 ||
-            o->rotations > 100000)
-            return vp_cli_die(2, "pack: --rotations must be a whole number in 1..100000, not "
-                                 "'%s'", v);
+        if (vp_cli_parse_u64(v, &o->rotations) != 0 || o->rotations == 0 || o->rotations > 100000)
+            return vp_cli_die(2,
+                              "pack: --rotations must be a whole number in 1..100000, not "
+                              "'%s'",
+                              v);
         o->rotate = 1;
         break;
     case OPT_SEED:
@@ -639,8 +707,10 @@ static int take_option(int c, const char *v, pack_opts *o, int *have_radius, int
         break;
     case OPT_MAX_MEMORY:
         if (vp_cli_parse_size(v, &o->max_memory) != 0)
-            return vp_cli_die(2, "pack: --max-memory must be a size such as 8G or 500M, not "
-                                 "'%s'", v);
+            return vp_cli_die(2,
+                              "pack: --max-memory must be a size such as 8G or 500M, not "
+                              "'%s'",
+                              v);
         break;
     case OPT_JSON: o->json = 1; break;
     case OPT_QUIET: o->quiet = 1; break;
@@ -751,7 +821,8 @@ int pack_parse_options(int argc, char **argv, pack_opts *o) {
             if (v && c != OPT_PASS) {
                 /* as typed: -o, or the long name (an abbreviation in full);
                  * vp_cli_once keeps the pointer: a string that stays */
-                const char *opt_arg = optarg == args[optind - 1] ? args[optind - 2] : args[optind - 1];
+                const char *opt_arg =
+                    optarg == args[optind - 1] ? args[optind - 2] : args[optind - 1];
                 const char *typed = c == OPT_OUTPUT && opt_arg[1] != '-' ? "-o" : dashed_name(c);
                 rc = vp_cli_once(&seen, "pack", typed, v);
             }
@@ -772,8 +843,10 @@ int pack_parse_options(int argc, char **argv, pack_opts *o) {
         return vp_cli_die(2, "pack: --shape-out writes OBJ: give a name ending in .obj, not '%s'",
                           o->shape_out);
     if (o->save_container && vp_format_from_path(o->save_container) != VP_FORMAT_VDB)
-        return vp_cli_die(2, "pack: --save-container writes a .vdb: give a name ending in .vdb, "
-                             "not '%s'", o->save_container);
+        return vp_cli_die(2,
+                          "pack: --save-container writes a .vdb: give a name ending in .vdb, "
+                          "not '%s'",
+                          o->save_container);
     /* every file written must be distinct from the others and from the
      * files read (the container, a --shape mesh): a TD would lose one */
     const char *outs[4] = {o->output, o->save_container, o->shape_out, o->preview};
@@ -788,12 +861,12 @@ int pack_parse_options(int argc, char **argv, pack_opts *o) {
         if (!outs[i]) continue;
         for (int k = 0; k < 5; k++)
             if (ins[k] && vp_cli_same_file(outs[i], ins[k]))
-                return vp_cli_die(2, "pack: %s %s is %s itself: writing would replace it",
-                                  names[i], outs[i], inames[k]);
+                return vp_cli_die(2, "pack: %s %s is %s itself: writing would replace it", names[i],
+                                  outs[i], inames[k]);
         for (int k = 0; k < i; k++)
             if (outs[k] && vp_cli_same_file(outs[i], outs[k]))
-                return vp_cli_die(2, "pack: %s and %s name the same file (%s)", names[k],
-                                  names[i], outs[i]);
+                return vp_cli_die(2, "pack: %s and %s name the same file (%s)", names[k], names[i],
+                                  outs[i]);
     }
     rc = check_option_methods(o, given);
     if (rc) return rc;
@@ -820,8 +893,10 @@ static int split_field(const char *opt, const char *v, field_arg *a) {
     if (cut) {
         a->grid = cut + 5;
         if (!*a->grid)
-            return vp_cli_die(2, "pack: %s '%s': give the grid's name after the colon, or no "
-                                 "colon (the first float grid)", opt, v);
+            return vp_cli_die(2,
+                              "pack: %s '%s': give the grid's name after the colon, or no "
+                              "colon (the first float grid)",
+                              opt, v);
     }
     return 0;
 }
@@ -847,8 +922,9 @@ static int check_field_options(pack_opts *o, int have_radius, const unsigned cha
         return vp_cli_die(2, "pack: --radius-field-mode goes with --radius-field");
     if (!f->radius.text && !f->density.text) return 0;
     if (o->shape != VP_SHAPE_SPHERE)
-        return vp_cli_die(2, "pack: --radius-field and --density-field pack spheres in this "
-                             "version, not --shape %s",
+        return vp_cli_die(2,
+                          "pack: --radius-field and --density-field pack spheres in this "
+                          "version, not --shape %s",
                           o->shape_file ? o->shape_file : vp_shape_name(o->shape));
     if (o->pass_shapes)
         return vp_cli_die(2, "pack: --radius-field and --density-field pack spheres in this "

@@ -63,7 +63,8 @@ static void json_fields(const pack_opts *o) {
         printf(",\"radius_field\":");
         vp_cli_json_string(stdout, f->radius.text);
         printf(",\"radius_field_mode\":\"%s\",\"radius_field_min\":%.17g,"
-               "\"radius_field_max\":%.17g", vp_field_mode_name(f->mode), f->rmin, f->rmax);
+               "\"radius_field_max\":%.17g",
+               vp_field_mode_name(f->mode), f->rmin, f->rmax);
     }
     if (f->density.text) {
         printf(",\"density_field\":");
@@ -74,7 +75,7 @@ static void json_fields(const pack_opts *o) {
 /* Per pass, what was asked (which = 0: the count, or "max") or placed
  * (1), comma-separated in pass order, for metadata ("20000,max"). */
 void pack_counts_text(const pack_opts *o, const vp_rsa_report *r, int which, char *out,
-                        size_t outlen) {
+                      size_t outlen) {
     size_t at = 0;
     out[0] = 0;
     for (size_t i = 0; i < r->npasses && at < outlen; i++) {
@@ -130,8 +131,8 @@ static void shape_counts(const vp_particles *p, size_t *counts, char names[][300
 }
 
 void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
-                       const run_result *rr, const vp_write_report *w, double fraction,
-                       int threads, double seconds) {
+                     const run_result *rr, const vp_write_report *w, double fraction, int threads,
+                     double seconds) {
     printf("{\"command\":\"pack\",\"container\":");
     vp_cli_json_string(stdout, o->container);
     printf(",\"container_kind\":\"%s\",\"container_volume\":%.17g", kind_name(ci->kind),
@@ -155,13 +156,14 @@ void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_p
                ci->duplicate_triangles, ci->opposite_triangles, ci->reoriented_triangles,
                ci->turned_pieces, ci->cavities);
         printf(",\"volume_estimate\":%.17g,\"volume_estimate_kind\":\"%s\","
-               "\"volume_mismatch\":%s", ci->volume_estimate,
+               "\"volume_mismatch\":%s",
+               ci->volume_estimate,
                ci->volume_estimate_kind == VP_ESTIMATE_MESH_VOLUME ? "mesh_volume" : "winding",
                ci->volume_mismatch ? "true" : "false");
     }
     if (o->has_iso) printf(",\"iso\":%.17g", o->iso);
-    printf(",\"method\":\"%s\",\"shape\":\"%s\",\"fit\":\"%s\"", o->method,
-           o->shape_text, o->fit == VP_FIT_INSIDE ? "inside" : "center");
+    printf(",\"method\":\"%s\",\"shape\":\"%s\",\"fit\":\"%s\"", o->method, o->shape_text,
+           o->fit == VP_FIT_INSIDE ? "inside" : "center");
     if (o->mesh) {
         printf(",\"shape_file\":");
         vp_cli_json_string(stdout, vp_mesh_shape_name(o->mesh));
@@ -188,8 +190,8 @@ void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_p
     printf(",\"max_radius\":%.17g", rr->max_radius);
     if (!strcmp(o->method, "lattice")) {
         const vp_lattice_report *l = &rr->lat;
-        printf(",\"lattice\":\"%s\",\"radius\":%.17g,\"lattice_fraction\":%.17g", pack_lattice_label(o),
-               l->radius, l->lattice_fraction);
+        printf(",\"lattice\":\"%s\",\"radius\":%.17g,\"lattice_fraction\":%.17g",
+               pack_lattice_label(o), l->radius, l->lattice_fraction);
         printf(",\"offsets_tried\":%d,\"rotations_tried\":%d,\"radius_iterations\":%d",
                l->offsets_tried, l->rotations_tried, l->radius_iterations);
         printf(",\"offset\":[%.17g,%.17g,%.17g],\"rotation\":[%.17g,%.17g,%.17g,%.17g]",
@@ -200,8 +202,7 @@ void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_p
             printf(",\"orient\":\"%s\",\"overlap\":\"%s\"",
                    o->orient == VP_ORIENT_FIXED ? "fixed" : "random",
                    o->overlap == VP_OVERLAP_BBOX ? "bbox" : "exact");
-        if (o->rsa_count_radius)
-            printf(",\"target_fraction\":%.17g", o->target_fraction);
+        if (o->rsa_count_radius) printf(",\"target_fraction\":%.17g", o->target_fraction);
         json_fields(o);
         printf(",\"passes\":[");
         for (size_t i = 0; i < rr->rsa.npasses; i++) {
@@ -215,19 +216,17 @@ void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_p
             else if (o->passes[i].own_shape)
                 vp_shape_format(o->passes[i].shape.shape, o->passes[i].shape.param, psh,
                                 sizeof psh);
-            else
-                snprintf(psh, sizeof psh, "%s", o->default_shape_text);
+            else snprintf(psh, sizeof psh, "%s", o->default_shape_text);
             printf("%s{\"shape\":", i ? "," : "");
             vp_cli_json_string(stdout, psh);
             printf(",\"group\":\"%s\",\"radius\":\"%s\",\"requested\":%zu,\"maximal\":%s,"
                    "\"placed\":%zu,\"stop\":\"%s\",\"tries\":%llu,\"cell_budget_reached\":%s,"
                    "\"short\":%s,\"grow\":%s,\"grow_mean\":%.17g,\"seconds\":%.6f}",
-                   p->group_names[i], sz, pr->requested,
-                   o->passes[i].maximal ? "true" : "false", pr->placed, stop_name(pr->stop),
-                   (unsigned long long)pr->tries, pr->budget_hit ? "true" : "false",
+                   p->group_names[i], sz, pr->requested, o->passes[i].maximal ? "true" : "false",
+                   pr->placed, stop_name(pr->stop), (unsigned long long)pr->tries,
+                   pr->budget_hit ? "true" : "false",
                    !o->passes[i].maximal && pr->placed < pr->requested ? "true" : "false",
-                   o->passes[i].grow ? "true" : "false",
-                   pr->grow_mean, pr->seconds);
+                   o->passes[i].grow ? "true" : "false", pr->grow_mean, pr->seconds);
         }
         printf("]");
     } else if (!strcmp(o->method, "jam")) {
@@ -240,8 +239,8 @@ void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_p
     } else {
         const vp_relax_report *x = &rr->relax;
         printf(",\"sweeps\":%d,\"radius_scale\":%.17g,\"initial_fraction\":%.17g,"
-               "\"max_overlap\":%.17g", x->sweeps, x->radius_scale, x->initial_fraction,
-               x->max_overlap);
+               "\"max_overlap\":%.17g",
+               x->sweeps, x->radius_scale, x->initial_fraction, x->max_overlap);
     }
     if (strcmp(o->method, "rsa") != 0) json_fields(o); /* (rsa: with its passes) */
     if (strcmp(o->method, "lattice") != 0)
@@ -251,14 +250,15 @@ void pack_print_json(const pack_opts *o, const vp_container_info *ci, const vp_p
     vp_cli_json_string(stdout, o->output);
     if (o->out_format == VP_FORMAT_VDB)
         printf(",\"position_precision\":\"%s\",\"precision_promoted\":%s,"
-               "\"position_error\":%.17g", w->full_precision ? "full" : "fixed16",
-               w->promoted ? "true" : "false", w->position_error);
+               "\"position_error\":%.17g",
+               w->full_precision ? "full" : "fixed16", w->promoted ? "true" : "false",
+               w->position_error);
     printf("}\n");
 }
 
 void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const vp_particles *p,
-                          const run_result *rr, const vp_write_report *w, double fraction,
-                          double seconds) {
+                        const run_result *rr, const vp_write_report *w, double fraction,
+                        double seconds) {
     char what[96];
     vp_cli_shape_count(what, sizeof what, p->count, o->shape);
     if (!strcmp(o->method, "lattice"))
@@ -267,7 +267,7 @@ void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const v
     else
         printf("vdbpack: packed %s%s%s%s%s by %s in %s\n", what, o->mesh ? " (" : "",
                o->mesh ? vp_mesh_shape_name(o->mesh) : "", o->mesh ? ")" : "",
-               o->shape == VP_SHAPE_SPHERE ? ""
+               o->shape == VP_SHAPE_SPHERE     ? ""
                : o->overlap == VP_OVERLAP_BBOX ? " (fixed orientation, bounding-box overlap)"
                : o->orient == VP_ORIENT_FIXED  ? " (fixed orientation, exact overlap)"
                                                : " (random orientations, exact overlap)",
@@ -291,13 +291,11 @@ void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const v
         }
         printf("\n");
     }
-    if (ci->kind == VP_CONTAINER_MESH)
-        vp_cli_print_mesh_container(stdout, ci);
+    if (ci->kind == VP_CONTAINER_MESH) vp_cli_print_mesh_container(stdout, ci);
     else if (ci->kind == VP_CONTAINER_LEVEL_SET)
         printf("  container: level set '%s', %zu active voxels, volume %.6g\n", ci->grid_name,
                ci->active_voxels, ci->volume);
-    else
-        printf("  container: analytic, volume %.6g\n", ci->volume);
+    else printf("  container: analytic, volume %.6g\n", ci->volume);
     if (ci->voxel_size > 0) printf("  voxel size %.6g: %s\n", ci->voxel_size, ci->voxel_reason);
     summary_fields(o);
     if (o->margin > 0 || o->gap > 0)
@@ -336,7 +334,8 @@ void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const v
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (o->passes[i].maximal && o->shape != VP_SHAPE_SPHERE)
                 printf(" (maximal mode for %s: stopped by %d failed tries in a row, see "
-                       "docs/rsa.md)", o->mixed ? "several shapes" : "solids",
+                       "docs/rsa.md)",
+                       o->mixed ? "several shapes" : "solids",
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (o->passes[i].maximal)
                 printf(" (maximal mode stopped by %d failed tries in a row: refining the empty "
@@ -347,8 +346,7 @@ void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const v
                        o->passes[i].retries ? o->passes[i].retries : VP_RSA_DEFAULT_RETRIES);
             else if (pr->stop == VP_RSA_STOP_MAXIMAL && pr->placed < pr->requested)
                 printf(" of %zu (stopped: no room left for another)", pr->requested);
-            else
-                printf(" of %zu", pr->requested);
+            else printf(" of %zu", pr->requested);
             if (o->passes[i].grow) printf(", grown by %.3fx on average", pr->grow_mean);
             printf(", %.2f s\n", pr->seconds);
         }
@@ -359,23 +357,21 @@ void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const v
     } else if (!strcmp(o->method, "jam")) {
         const vp_jam_report *x = &rr->jam;
         printf("  jamming: %d minimisations, %ld FIRE steps; radii scaled by %.6g; largest "
-               "overlap %.3g of r_i + r_j\n", x->minimizations, x->iterations, x->radius_scale,
-               x->max_overlap);
+               "overlap %.3g of r_i + r_j\n",
+               x->minimizations, x->iterations, x->radius_scale, x->max_overlap);
         printf("  contacts: Z = %.3f over non-rattlers, rattlers %.1f %%\n", x->mean_contacts,
                100.0 * x->rattler_fraction);
         if (x->core_count)
             printf("  packing fraction %.4f (core, 5 diameters from the wall: %.4f over %zu "
-                   "spheres)\n", fraction, x->core_fraction, x->core_count);
-        else
-            printf("  packing fraction %.4f (no core 5 diameters from the wall)\n", fraction);
+                   "spheres)\n",
+                   fraction, x->core_fraction, x->core_count);
+        else printf("  packing fraction %.4f (no core 5 diameters from the wall)\n", fraction);
     } else {
         const vp_relax_report *x = &rr->relax;
         printf("  relaxation: %d sweeps, radii scaled by %.4f, largest overlap %.3g of r_i + r_j\n",
                x->sweeps, x->radius_scale, x->max_overlap);
-        printf("  packing fraction %.4f (%.4f before relaxation)\n", fraction,
-               x->initial_fraction);
+        printf("  packing fraction %.4f (%.4f before relaxation)\n", fraction, x->initial_fraction);
     }
-    if (o->out_format == VP_FORMAT_VDB && w->promoted)
-        vp_cli_print_promoted(w);
+    if (o->out_format == VP_FORMAT_VDB && w->promoted) vp_cli_print_promoted(w);
     printf("  wrote %s in %.2f s (packing %.2f s)\n", o->output, seconds, rr->pack_seconds);
 }

@@ -35,7 +35,8 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out, char *mesh_file, size_
     vp_rsa_pass_init(out);
     mesh_file[0] = 0;
     char buf[1024];
-    if (strlen(text) >= sizeof buf) return vp_cli_die(2, "pack: --pass '%.40s...' is too long", text);
+    if (strlen(text) >= sizeof buf)
+        return vp_cli_die(2, "pack: --pass '%.40s...' is too long", text);
     strcpy(buf, text);
     /* fields split by hand: strtok would skip empty ones ("a,,b", a trailing comma) */
     static const char *const fields[] = {"count", "radius", "retries", "grow", "name", "shape"};
@@ -51,16 +52,20 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out, char *mesh_file, size_
         int f = 0;
         while (f < NFIELDS && strcmp(tok, fields[f])) f++;
         if (f == NFIELDS)
-            return vp_cli_die(2, "pack: --pass '%s': unknown field '%s' (count, radius, retries, "
-                                 "grow, name, shape)", text, tok);
+            return vp_cli_die(2,
+                              "pack: --pass '%s': unknown field '%s' (count, radius, retries, "
+                              "grow, name, shape)",
+                              text, tok);
         if (seen[f]++) return vp_cli_die(2, "pack: --pass '%s': %s is given twice", text, tok);
         if (!strcmp(tok, "count")) {
             uint64_t n;
             if (val && !strcmp(val, "max")) {
                 out->maximal = 1;
             } else if (!val || vp_cli_parse_u64(val, &n) != 0 || n == 0) {
-                return vp_cli_die(2, "pack: --pass '%s': count must be a whole number > 0 or "
-                                     "'max', not '%s'", text, val ? val : "");
+                return vp_cli_die(2,
+                                  "pack: --pass '%s': count must be a whole number > 0 or "
+                                  "'max', not '%s'",
+                                  text, val ? val : "");
             } else {
                 out->count = (size_t)n;
             }
@@ -73,29 +78,37 @@ int vp_cli_parse_pass(const char *text, vp_rsa_pass *out, char *mesh_file, size_
         } else if (!strcmp(tok, "retries")) {
             uint64_t k;
             if (!val || vp_cli_parse_u64(val, &k) != 0 || k == 0 || k > 1000000000)
-                return vp_cli_die(2, "pack: --pass '%s': retries must be a whole number in "
-                                     "1..1e9, not '%s'", text, val ? val : "");
+                return vp_cli_die(2,
+                                  "pack: --pass '%s': retries must be a whole number in "
+                                  "1..1e9, not '%s'",
+                                  text, val ? val : "");
             out->retries = (int)k;
         } else if (!strcmp(tok, "grow")) {
             if (val) return vp_cli_die(2, "pack: --pass '%s': grow takes no value", text);
             out->grow = 1;
         } else if (!strcmp(tok, "name")) {
             if (!val || !valid_group_name(val))
-                return vp_cli_die(2, "pack: --pass '%s': name must be 1-31 letters, digits or "
-                                     "_, not starting with __", text);
+                return vp_cli_die(2,
+                                  "pack: --pass '%s': name must be 1-31 letters, digits or "
+                                  "_, not starting with __",
+                                  text);
             snprintf(out->name, sizeof out->name, "%s", val);
         } else if (!strcmp(tok, "shape")) {
             /* a built-in name or superball:P, else a mesh file (read
              * before packing: a missing one fails there, with its name) */
             if (!val || !*val)
-                return vp_cli_die(2, "pack: --pass '%s': shape needs a value (a shape name, "
-                                     "superball:P or a closed mesh file)", text);
+                return vp_cli_die(2,
+                                  "pack: --pass '%s': shape needs a value (a shape name, "
+                                  "superball:P or a closed mesh file)",
+                                  text);
             out->own_shape = 1;
             int sr = vp_shape_parse_param(val, &out->shape.shape, &out->shape.param);
             if (sr == -2)
-                return vp_cli_die(2, "pack: --pass '%s': a superball's exponent P must be a "
-                                     "number in [0.5, 1000] (concave superballs, P < 0.5, are "
-                                     "not offered)", text);
+                return vp_cli_die(2,
+                                  "pack: --pass '%s': a superball's exponent P must be a "
+                                  "number in [0.5, 1000] (concave superballs, P < 0.5, are "
+                                  "not offered)",
+                                  text);
             if (sr != 0) {
                 if (strlen(val) >= mesh_len)
                     return vp_cli_die(2, "pack: --pass '%s': the shape's file name is too long",

@@ -113,8 +113,7 @@ static int image_ext_ok(const char *path) {
 }
 
 int vp_cli_preview_path_check(const char *opt, const char *path) {
-    if (!image_ext_ok(path))
-        return vp_cli_die(2, "%s: '%s' must end in .exr or .png", opt, path);
+    if (!image_ext_ok(path)) return vp_cli_die(2, "%s: '%s' must end in .exr or .png", opt, path);
     return 0;
 }
 
@@ -145,11 +144,11 @@ int vp_cli_render(int argc, char **argv) {
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED()                                                                                 \
-    do {                                                                                       \
-        if (!v) return vp_cli_die(2, "render: %s needs a value", a);                           \
-        if (vp_cli_once(&seen, "render", a, v)) return 2;                                      \
-        i++;                                                                                   \
+#define NEED()                                                                                     \
+    do {                                                                                           \
+        if (!v) return vp_cli_die(2, "render: %s needs a value", a);                               \
+        if (vp_cli_once(&seen, "render", a, v)) return 2;                                          \
+        i++;                                                                                       \
     } while (0)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(VP_RENDER_HELP, stdout);
@@ -160,10 +159,13 @@ int vp_cli_render(int argc, char **argv) {
         } else if (!strcmp(a, "--size")) {
             NEED();
             int rc = parse_size(v, &rp.width, &rp.height);
-            if (rc == -1) return vp_cli_die(2, "render: --size must be WxH (e.g. 1920x1080), not '%s'", v);
+            if (rc == -1)
+                return vp_cli_die(2, "render: --size must be WxH (e.g. 1920x1080), not '%s'", v);
             if (rc == -2)
-                return vp_cli_die(2, "render: --size %s is out of range (each side 1..%d, at most "
-                                     "%u pixels)", v, VP_RENDER_MAX_SIDE, VP_RENDER_MAX_PIXELS);
+                return vp_cli_die(2,
+                                  "render: --size %s is out of range (each side 1..%d, at most "
+                                  "%u pixels)",
+                                  v, VP_RENDER_MAX_SIDE, VP_RENDER_MAX_PIXELS);
         } else if (!strcmp(a, "--view")) {
             NEED();
             if (!strcmp(v, "iso")) rp.view = VP_VIEW_ISO;
@@ -174,27 +176,34 @@ int vp_cli_render(int argc, char **argv) {
         } else if (!strcmp(a, "--camera")) {
             NEED();
             if (parse_camera(v, &rp) != 0)
-                return vp_cli_die(2, "render: --camera must be EX,EY,EZ:TX,TY,TZ with distinct "
-                                     "finite points, not '%s'", v);
+                return vp_cli_die(2,
+                                  "render: --camera must be EX,EY,EZ:TX,TY,TZ with distinct "
+                                  "finite points, not '%s'",
+                                  v);
             camera_set = 1;
         } else if (!strcmp(a, "--fov")) {
             NEED();
             if (vp_cli_parse_double(v, &rp.fov_degrees) != 0 || !(rp.fov_degrees >= 1) ||
                 !(rp.fov_degrees <= 170))
-                return vp_cli_die(2, "render: --fov must be a number of degrees in 1..170, not "
-                                     "'%s'", v);
+                return vp_cli_die(2,
+                                  "render: --fov must be a number of degrees in 1..170, not "
+                                  "'%s'",
+                                  v);
         } else if (!strcmp(a, "--colour") || !strcmp(a, "--color")) {
             NEED();
             if (!strcmp(v, "pass")) rp.colour = VP_COLOUR_PASS;
             else if (!strcmp(v, "size")) rp.colour = VP_COLOUR_SIZE;
             else if (!strcmp(v, "contacts")) rp.colour = VP_COLOUR_CONTACTS;
             else if (!strcmp(v, "id")) rp.colour = VP_COLOUR_ID;
-            else return vp_cli_die(2, "render: unknown --colour '%s' (pass, size, id, contacts)", v);
+            else
+                return vp_cli_die(2, "render: unknown --colour '%s' (pass, size, id, contacts)", v);
         } else if (!strcmp(a, "--cut")) {
             NEED();
             if (parse_cut(v, &rp) != 0)
-                return vp_cli_die(2, "render: --cut must be AXIS:VALUE with AXIS x, y or z "
-                                     "(e.g. x:0.5), not '%s'", v);
+                return vp_cli_die(2,
+                                  "render: --cut must be AXIS:VALUE with AXIS x, y or z "
+                                  "(e.g. x:0.5), not '%s'",
+                                  v);
         } else if (!strcmp(a, "--shape")) { /* once per mesh shape of a mixed set */
             if (!v) return vp_cli_die(2, "render: %s needs a value", a);
             i++;
@@ -210,8 +219,10 @@ int vp_cli_render(int argc, char **argv) {
         } else if (!strcmp(a, "--threads")) {
             NEED();
             if (vp_cli_parse_u64(v, &threads) != 0 || threads == 0 || threads > 256)
-                return vp_cli_die(2, "render: --threads must be a whole number in 1..256, not "
-                                     "'%s'", v);
+                return vp_cli_die(2,
+                                  "render: --threads must be a whole number in 1..256, not "
+                                  "'%s'",
+                                  v);
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (a[0] == '-' && a[1]) {
@@ -251,7 +262,8 @@ int vp_cli_render(int argc, char **argv) {
         status = vp_cli_die(1, "%s: the points grid holds no particles: nothing to render", file);
         goto done;
     }
-    if ((status = vp_cli_attach_mesh(ctx, "render", file, "", shape_files, nshape_files, p, meshes)) != 0)
+    if ((status = vp_cli_attach_mesh(ctx, "render", file, "", shape_files, nshape_files, p,
+                                     meshes)) != 0)
         goto done;
     status = 1;
     status = vp_cli_finish_output(ctx, vp_cli_render_particles(ctx, p, &rp, out) != 0, out);

@@ -294,10 +294,13 @@ int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file
             want += p->shapes[k].shape == VP_SHAPE_MESH && !p->shapes[k].mesh;
         if (nfiles != want) {
             if (!want)
-                return vp_cli_die(2, "%s: --shape is for packings with mesh shapes; %s holds "
-                                     "none", cmd, file);
-            return vp_cli_die(2, "%s: %s holds %d mesh shape%s: give %s with --shape FILE, in "
-                                 "the order of its shapes (%d given)",
+                return vp_cli_die(2,
+                                  "%s: --shape is for packings with mesh shapes; %s holds "
+                                  "none",
+                                  cmd, file);
+            return vp_cli_die(2,
+                              "%s: %s holds %d mesh shape%s: give %s with --shape FILE, in "
+                              "the order of its shapes (%d given)",
                               cmd, file, want, want == 1 ? "" : "s", want == 1 ? "it" : "them",
                               nfiles);
         }
@@ -309,22 +312,24 @@ int vp_cli_attach_mesh(struct vp_context *ctx, const char *cmd, const char *file
             const char *base = strrchr(shape_files[f], '/');
             base = base ? base + 1 : shape_files[f];
             if (p->shape_names[k][0] && strncmp(base, p->shape_names[k], VP_SHAPE_NAME_MAX) != 0)
-                fprintf(stderr, "vdbpack: warning: %s: shape %u was the mesh shape '%.*s', not "
-                                "'%s'\n", file, k, VP_SHAPE_NAME_MAX, p->shape_names[k], base);
+                fprintf(stderr,
+                        "vdbpack: warning: %s: shape %u was the mesh shape '%.*s', not "
+                        "'%s'\n",
+                        file, k, VP_SHAPE_NAME_MAX, p->shape_names[k], base);
             p->shapes[k].mesh = meshes[f++];
         }
         return 0;
     }
     const char *shape_file = nfiles ? shape_files[0] : NULL;
-    if (nfiles > 1)
-        return vp_cli_die(2, "%s: %s holds one shape: one --shape at most", cmd, file);
+    if (nfiles > 1) return vp_cli_die(2, "%s: %s holds one shape: one --shape at most", cmd, file);
     if (p->shape == VP_SHAPE_MESH && !shape_file)
-        return vp_cli_die(2, "%s: %s holds particles of a mesh shape%s%s%s: give the mesh with "
-                             "--shape FILE", cmd, file, recorded[0] ? " (" : "", recorded,
-                          recorded[0] ? ")" : "");
+        return vp_cli_die(2,
+                          "%s: %s holds particles of a mesh shape%s%s%s: give the mesh with "
+                          "--shape FILE",
+                          cmd, file, recorded[0] ? " (" : "", recorded, recorded[0] ? ")" : "");
     if (shape_file && p->shape != VP_SHAPE_MESH)
-        return vp_cli_die(2, "%s: --shape is for packings of a mesh shape; %s holds %s", cmd,
-                          file, vp_cli_shape_plural(p->shape));
+        return vp_cli_die(2, "%s: --shape is for packings of a mesh shape; %s holds %s", cmd, file,
+                          vp_cli_shape_plural(p->shape));
     if (!shape_file) return 0;
     if (vp_mesh_shape_load(ctx, shape_file, &meshes[0]) != VP_OK)
         return vp_cli_die(1, "%s", vp_context_message(ctx));
@@ -353,13 +358,15 @@ static const char *plural(size_t n, const char *one, const char *many) {
 }
 
 void vp_cli_print_mesh_container(FILE *f, const vp_container_info *ci) {
-    fprintf(f, "  container: mesh, %zu triangles (%zu vertices after welding %zu), %zu %s, "
-               "level-set volume %.6g\n",
+    fprintf(f,
+            "  container: mesh, %zu triangles (%zu vertices after welding %zu), %zu %s, "
+            "level-set volume %.6g\n",
             ci->mesh_triangles, ci->mesh_vertices, ci->mesh_vertices_raw, ci->mesh_pieces,
             plural(ci->mesh_pieces, "piece", "pieces"), ci->volume);
     if (ci->inside == VP_INSIDE_WINDING) {
-        fprintf(f, "  inside: by winding number (%zu boundary, %zu non-manifold, %zu inconsistently "
-                   "oriented edges)",
+        fprintf(f,
+                "  inside: by winding number (%zu boundary, %zu non-manifold, %zu inconsistently "
+                "oriented edges)",
                 ci->boundary_edges, ci->nonmanifold_edges, ci->inconsistent_edges);
         size_t mended = ci->duplicate_triangles + ci->opposite_triangles +
                         ci->reoriented_triangles + ci->turned_pieces + ci->cavities;

@@ -30,10 +30,10 @@ typedef struct chk {
     const vp_particles *p;
     const vp_polyhedron *poly;
     const vp_mesh_shape *mesh;
-    double sb;          /* superball exponent, or 0 */
+    double sb; /* superball exponent, or 0 */
     const vp_check_params *prm;
-    double *r;          /* radii (double) */
-    double slack;       /* 2 x position error (world) */
+    double *r;    /* radii (double) */
+    double slack; /* 2 x position error (world) */
     size_t i;
     vp_check_report *rep;
     const vp_kind *kinds; /* a mixed set: its shapes (else NULL) */
@@ -106,7 +106,8 @@ static int pair_visit(void *user, uint32_t j) {
             double lo = 0.0, hi = 1.0;
             for (int it = 0; it < 60; it++) {
                 double m = 0.5 * (lo + hi);
-                if (vp_superball_overlap(q->sb, ri * m, qa, xi, rj * m, qb, xj)) hi = m; else lo = m;
+                if (vp_superball_overlap(q->sb, ri * m, qa, xi, rj * m, qb, xj)) hi = m;
+                else lo = m;
             }
             gap = lo > 0 ? -d * (1.0 - lo) / lo : -e;
         } else if (vp_superball_overlap(q->sb, ri * g, qa, xi, rj * g, qb, xj)) {
@@ -123,12 +124,9 @@ static int pair_visit(void *user, uint32_t j) {
         orient_of(q->p, j, qb);
         scale = ri < rj ? ri : rj;
         double g = 1.0 + q->prm->contact_tolerance;
-        if (vp_mesh_shape_overlap(q->mesh, ri, qa, xi, rj, qb, xj, &depth))
-            gap = -depth;
-        else if (vp_mesh_shape_overlap(q->mesh, ri * g, qa, xi, rj * g, qb, xj, NULL))
-            gap = 0.0;
-        else
-            gap = HUGE_VAL;
+        if (vp_mesh_shape_overlap(q->mesh, ri, qa, xi, rj, qb, xj, &depth)) gap = -depth;
+        else if (vp_mesh_shape_overlap(q->mesh, ri * g, qa, xi, rj * g, qb, xj, NULL)) gap = 0.0;
+        else gap = HUGE_VAL;
     } else if (!q->poly) {
         gap = sqrt(d2) - e - q->prm->gap; /* (the gap asked for: 0 by default) */
         scale = e;
@@ -171,8 +169,9 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
                              const vp_check_params *params, vp_check_report *report) {
     double t0 = vp_seconds();
     if (!c || !p || !report)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: container, particles and report "
-                                                     "are required");
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "check: container, particles and report "
+                       "are required");
     vp_check_params def;
     if (!params) {
         vp_check_params_init(&def);
@@ -183,8 +182,9 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: tolerances must be >= 0");
     if (!(params->margin >= 0) || !(params->gap >= 0) || !isfinite(params->margin) ||
         !isfinite(params->gap))
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "check: margin and gap must be finite and "
-                                                     ">= 0");
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "check: margin and gap must be finite and "
+                       ">= 0");
 
     vp_check_report rep;
     memset(&rep, 0, sizeof rep);
@@ -195,8 +195,7 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     vp_kind kinds[VP_MAX_SHAPES];
     /* a gap between solids: every pair through vp_kind_overlap_gap (the
      * one-shape set as a table of one) */
-    int generic = p->shape == VP_SHAPE_MIXED ||
-                  (params->gap > 0 && p->shape != VP_SHAPE_SPHERE);
+    int generic = p->shape == VP_SHAPE_MIXED || (params->gap > 0 && p->shape != VP_SHAPE_SPHERE);
     if (generic && p->shape != VP_SHAPE_MIXED &&
         vp_kind_set(&kinds[0], vp_particles_shape_of(p, 0)) != 0)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -210,10 +209,12 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
                            VP_MAX_SHAPES);
         for (unsigned k = 0; k < p->shape_count; k++)
             if (vp_kind_set(&kinds[k], p->shapes[k]) != 0)
-                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                               p->shapes[k].shape == VP_SHAPE_MESH
-                                   ? "check: shape %u of the set is a mesh shape: the mesh is needed"
-                                   : "check: shape %u of the set is not a valid shape", k);
+                return vp_fail(
+                    ctx, VP_ERR_INVALID_ARGUMENT,
+                    p->shapes[k].shape == VP_SHAPE_MESH
+                        ? "check: shape %u of the set is a mesh shape: the mesh is needed"
+                        : "check: shape %u of the set is not a valid shape",
+                    k);
         for (size_t i = 0; i < p->count; i++)
             if (p->shape_index[i] >= p->shape_count)
                 return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -223,8 +224,8 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
     if (p->shape == VP_SHAPE_MESH && !mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "check: the particles are of a mesh shape: the mesh is needed");
-    for (unsigned k = 0; generic && params->gap > 0 &&
-                         k < (p->shape == VP_SHAPE_MIXED ? p->shape_count : 1); k++)
+    for (unsigned k = 0;
+         generic && params->gap > 0 && k < (p->shape == VP_SHAPE_MIXED ? p->shape_count : 1); k++)
         if (kinds[k].mesh)
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "check: a gap is checked between convex shapes (spheres, solids, "
@@ -316,12 +317,16 @@ vp_result vp_check_particles(vp_context *ctx, const vp_container *c, const vp_pa
         } else if (sb > 0) {
             double q[4], d = vp_container_distance(c, x);
             orient_of(p, i, q);
-            v = d + r[i] <= -params->margin ? d + r[i] : vp_superball_wall_distance(c, sb, r[i], q, x, HUGE_VAL);
+            v = d + r[i] <= -params->margin
+                    ? d + r[i]
+                    : vp_superball_wall_distance(c, sb, r[i], q, x, HUGE_VAL);
         } else if (mesh) {
             /* the packer's own shortcut: a bounding sphere inside passes */
             double q[4], d = vp_container_distance(c, x);
             orient_of(p, i, q);
-            v = d + r[i] <= -params->margin ? d + r[i] : vp_mesh_shape_wall_distance(c, mesh, r[i], q, x, HUGE_VAL);
+            v = d + r[i] <= -params->margin
+                    ? d + r[i]
+                    : vp_mesh_shape_wall_distance(c, mesh, r[i], q, x, HUGE_VAL);
         } else if (!poly) {
             v = vp_container_distance(c, x) + r[i];
         } else {

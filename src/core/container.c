@@ -10,8 +10,8 @@
 
 typedef struct analytic {
     int is_box;
-    double c[3], r;          /* sphere */
-    double lo[3], hi[3];     /* box */
+    double c[3], r;      /* sphere */
+    double lo[3], hi[3]; /* box */
 } analytic;
 
 static double analytic_distance(void *user, const double p[3]) {
@@ -72,8 +72,8 @@ vp_result vp_container_wrap(vp_context *ctx, const vp_container_ops *ops, void *
     return VP_OK;
 }
 
-static vp_result make_analytic(vp_context *ctx, analytic *a, const double lo[3],
-                               const double hi[3], double volume, vp_container **out) {
+static vp_result make_analytic(vp_context *ctx, analytic *a, const double lo[3], const double hi[3],
+                               double volume, vp_container **out) {
     static const vp_container_ops ops = {analytic_distance, analytic_gradient, free};
     vp_container_info info;
     memset(&info, 0, sizeof info);
@@ -87,9 +87,7 @@ static vp_result make_analytic(vp_context *ctx, analytic *a, const double lo[3],
     return r;
 }
 
-static int finite3(const double v[3]) {
-    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
-}
+static int finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
 
 /* Particle positions are stored as float: an analytic container must lie
  * well inside float's range (and its volume inside double's). */

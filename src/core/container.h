@@ -12,7 +12,7 @@ struct vp_container {
     vp_container_ops ops;
     void *user;
     vp_container_info info;
-    void *levelset;  /* the vpv_levelset behind a level-set container, else NULL */
+    void *levelset; /* the vpv_levelset behind a level-set container, else NULL */
     /* Optional (NULL for analytic containers, which are cheap to sample
      * anyway): builds the coarse depth map of depth_map.h into *out (owned
      * by the caller). Returns 0, or -1 when there is none (the caller then

@@ -82,8 +82,8 @@ int vp_report_progress(vp_context *ctx, double fraction, const char *stage) {
     return ctx->progress(ctx->progress_user, fraction, stage);
 }
 
-int vp_report_progress_counts(vp_context *ctx, double fraction, const char *stage,
-                              uint64_t done, uint64_t total) {
+int vp_report_progress_counts(vp_context *ctx, double fraction, const char *stage, uint64_t done,
+                              uint64_t total) {
     if (!ctx || !ctx->progress) return 1;
     ctx->has_counts = 1;
     ctx->count_done = done;
@@ -110,10 +110,12 @@ uint64_t vp_memory_limit(const vp_context *ctx) {
 void vp_format_bytes(double bytes, char *out, size_t outlen) {
     const char *units[] = {"B", "KB", "MB", "GB", "TB", "PB", "EB"};
     int u = 0;
-    while (bytes >= 1000.0 && u < 6) { bytes /= 1000.0; u++; }
+    while (bytes >= 1000.0 && u < 6) {
+        bytes /= 1000.0;
+        u++;
+    }
     /* beyond 1000 EB (absurd requests): %g keeps it short */
-    snprintf(out, outlen, bytes >= 1000.0 ? "%.3g %s" : u ? "%.1f %s" : "%.0f %s", bytes,
-             units[u]);
+    snprintf(out, outlen, bytes >= 1000.0 ? "%.3g %s" : u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
 }
 
 double vp_seconds(void) {

@@ -8,10 +8,10 @@
 
 struct vp_context {
     char message[1024];
-    int threads;              /* 0 = all cores */
+    int threads; /* 0 = all cores */
     vp_progress_fn progress;
     void *progress_user;
-    uint64_t max_memory;      /* 0 = physical memory */
+    uint64_t max_memory; /* 0 = physical memory */
     /* during a progress call from vp_report_progress_counts: its counts */
     int has_counts;
     uint64_t count_done, count_total;
@@ -30,8 +30,8 @@ int vp_report_progress(vp_context *ctx, double fraction, const char *stage);
 /* The same, with the particles the stage has placed so far and the number
  * it aims at (0: none fixed), which the callback reads through
  * vp_context_progress_counts. */
-int vp_report_progress_counts(vp_context *ctx, double fraction, const char *stage,
-                              uint64_t done, uint64_t total);
+int vp_report_progress_counts(vp_context *ctx, double fraction, const char *stage, uint64_t done,
+                              uint64_t total);
 /* Memory limit in bytes: max_memory, else physical memory. */
 uint64_t vp_memory_limit(const vp_context *ctx);
 /* The part of path after its last '/' (a pointer into path). */

@@ -25,11 +25,11 @@
 #include <stdint.h>
 
 typedef struct vp_depth_map {
-    double origin[3];   /* world position of block (0,0,0)'s low corner */
-    double inv_block;   /* 1 / block edge (world) */
+    double origin[3]; /* world position of block (0,0,0)'s low corner */
+    double inv_block; /* 1 / block edge (world) */
     int64_t dims[3];
-    float *bound;       /* dims[0]*dims[1]*dims[2], x fastest; NULL: no map */
-    size_t decided;     /* blocks with a finite bound */
+    float *bound;   /* dims[0]*dims[1]*dims[2], x fastest; NULL: no map */
+    size_t decided; /* blocks with a finite bound */
 } vp_depth_map;
 
 /* Builds the map from the level set's block footprint: value[i] NaN for a

@@ -41,15 +41,18 @@ vp_result vp_field_create_custom(vp_context *ctx, const vp_field_ops *ops, void 
                                  double vmax, vp_field **out) {
     vp_result r = VP_OK;
     if (!out || !ops || !ops->sample || !bmin || !bmax)
-        r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "custom field: a sample callback, bounds and "
-                                                  "out are required");
+        r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                    "custom field: a sample callback, bounds and "
+                    "out are required");
     for (int k = 0; r == VP_OK && k < 3; k++)
         if (!isfinite(bmin[k]) || !isfinite(bmax[k]) || !(bmax[k] >= bmin[k]))
-            r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "custom field: bounds must be finite, "
-                                                      "bmin <= bmax");
+            r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                        "custom field: bounds must be finite, "
+                        "bmin <= bmax");
     if (r == VP_OK && (!isfinite(vmin) || !isfinite(vmax) || !(vmax >= vmin)))
-        r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "custom field: the value range must be "
-                                                  "finite, vmin <= vmax");
+        r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                    "custom field: the value range must be "
+                    "finite, vmin <= vmax");
     if (r == VP_OK) {
         vp_field_info info;
         memset(&info, 0, sizeof info);
@@ -69,16 +72,14 @@ void vp_field_destroy(vp_field *f) {
     free(f);
 }
 
-double vp_field_sample(const vp_field *f, const double p[3]) {
-    return f->ops.sample(f->user, p);
-}
+double vp_field_sample(const vp_field *f, const double p[3]) { return f->ops.sample(f->user, p); }
 
 void vp_field_get_info(const vp_field *f, vp_field_info *info) {
     if (f && info) *info = f->info;
 }
 
-vp_result vp_field_range(vp_context *ctx, const vp_field *f, const double lo[3],
-                         const double hi[3], double *vmin, double *vmax) {
+vp_result vp_field_range(vp_context *ctx, const vp_field *f, const double lo[3], const double hi[3],
+                         double *vmin, double *vmax) {
     if (!f || !lo || !hi || !vmin || !vmax)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "field range: NULL argument");
     if (!f->range) {
@@ -123,15 +124,18 @@ vp_result vp_field_check(vp_context *ctx, const vp_field *f, const char *name, c
     if (positive && !(mn > 0))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "%s: the %s has values down to %g over the container; radii must be "
-                       "positive", name, what, mn + 0.0);
+                       "positive",
+                       name, what, mn + 0.0);
     if (!positive && !(mn >= 0))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "%s: the %s has values down to %g over the container; a density must "
-                       "not be negative", name, what, mn);
+                       "not be negative",
+                       name, what, mn);
     if (!positive && !(mx > 0))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "%s: the %s is 0 everywhere over the container: no particle could be "
-                       "placed", name, what);
+                       "placed",
+                       name, what);
     if (vmin) *vmin = mn;
     if (vmax) *vmax = mx;
     return VP_OK;
@@ -165,7 +169,8 @@ vp_result vp_field_radii(vp_context *ctx, const vp_container *c, const vp_field 
     if (n && (!(lo >= FLT_MIN) || !(hi <= FLT_MAX)))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "the radius field gives radii of %g..%g, outside 1.2e-38..3.4e38 (radii "
-                       "are stored as float)", lo, hi);
+                       "are stored as float)",
+                       lo, hi);
     if (rmin) *rmin = lo;
     if (rmax) *rmax = hi;
     return VP_OK;

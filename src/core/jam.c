@@ -55,7 +55,7 @@
 #define FIRE_FDEC 0.5
 #define FIRE_ALPHA0 0.1
 #define FIRE_FALPHA 0.99
-#define MAX_STEPS 200000   /* FIRE steps of one minimisation, at most */
+#define MAX_STEPS 200000 /* FIRE steps of one minimisation, at most */
 #define MAX_MINIMIZATIONS 12
 /* The protocol: random centres with radii that fill START_FRACTION, a
  * quench there (rms force below QUENCH_TOL of the rms overlap: the deeper
@@ -71,8 +71,8 @@
 #define FORCE_TOL 0.01
 #define FORCE_TOL_BELOW 3.0
 #define FINISH_OVERLAP 8e-5 /* largest overlap / (r_i + r_j) of the last minimum */
-#define QUENCH_SKIN 0.35   /* the list's skin in the quench, of the mean diameter */
-#define SKIN 0.15          /* and after it */
+#define QUENCH_SKIN 0.35    /* the list's skin in the quench, of the mean diameter */
+#define SKIN 0.15           /* and after it */
 #define CORE_DIAMETERS 5.0
 #define UNJAMMED (1e-3 * FINISH_OVERLAP) /* rms overlap of the mean diameter: none */
 
@@ -90,12 +90,12 @@ typedef struct jam {
     vp_fit fit;
     double margin, gap; /* kept from the wall, between surfaces (world) */
     size_t n;
-    double *x;        /* 4n: position and r0 of each sphere, in cell order */
-    float *v;         /* 3n velocities */
-    float *f;         /* 3n forces */
-    float *xr;        /* 3n positions at the last list build */
-    uint32_t *id;     /* n: the sphere's index in the output */
-    uint32_t *off;    /* n + 1: list of sphere i is nb[off[i] .. off[i+1]) */
+    double *x;     /* 4n: position and r0 of each sphere, in cell order */
+    float *v;      /* 3n velocities */
+    float *f;      /* 3n forces */
+    float *xr;     /* 3n positions at the last list build */
+    uint32_t *id;  /* n: the sphere's index in the output */
+    uint32_t *off; /* n + 1: list of sphere i is nb[off[i] .. off[i+1]) */
     uint32_t *nb;
     size_t nb_cap;
     uint8_t *near_wall; /* n: within reach of the wall until the next build */
@@ -275,9 +275,9 @@ static const uint8_t compress_lut[16][16] = {
     {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
 
 __attribute__((target("avx2"))) static uint32_t scan_avx2(const jam *s, size_t i, double ri,
-                                                         double reach_extra, uint32_t a,
-                                                         uint32_t e, uint32_t *out,
-                                                         uint32_t count, int room4) {
+                                                          double reach_extra, uint32_t a,
+                                                          uint32_t e, uint32_t *out, uint32_t count,
+                                                          int room4) {
     const double *xi = s->x + 4 * i;
     const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
                   xi2 = _mm256_set1_pd(xi[2]), vri = _mm256_set1_pd(ri),
@@ -398,7 +398,8 @@ static void build_chunk(void *user, size_t ci) {
  * the first time and when a chunk's list outgrew its region. Either way
  * the same list. */
 static int build_list(jam *s, int threads) {
-    if (2 * s->scale * s->r0max + s->skin > s->cell && grid_init(s, 2 * s->scale * s->r0max + s->skin) != 0)
+    if (2 * s->scale * s->r0max + s->skin > s->cell &&
+        grid_init(s, 2 * s->scale * s->r0max + s->skin) != 0)
         return -1;
     s->s_build = s->scale;
     if (sort_by_cell(s) != 0) return -1;
@@ -426,7 +427,8 @@ static int build_list(jam *s, int threads) {
         if (!over) {
             size_t at = 0;
             for (size_t c = 0; c < s->nchunk; c++) {
-                if (at != s->reg[c]) memmove(s->nb + at, s->nb + s->reg[c], s->tot[c] * sizeof *s->nb);
+                if (at != s->reg[c])
+                    memmove(s->nb + at, s->nb + s->reg[c], s->tot[c] * sizeof *s->nb);
                 at += s->tot[c];
             }
             memset(s->nb + at, 0, NB_PAD * sizeof *s->nb);
@@ -505,8 +507,7 @@ static void pair_forces_c(const jam *s, size_t i, pair_sum *o) {
 }
 
 #ifdef VP_JAM_AVX2
-__attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_t i,
-                                                            pair_sum *o) {
+__attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_t i, pair_sum *o) {
     const double *xi = s->x + 4 * i;
     const double sc = s->scale;
     const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
@@ -581,8 +582,7 @@ static void force_chunk(void *user, size_t ci) {
         double ri = sc * R0(s, i);
         pair_sum ps;
 #ifdef VP_JAM_AVX2
-        if (s->avx2)
-            pair_forces_avx2(s, i, &ps);
+        if (s->avx2) pair_forces_avx2(s, i, &ps);
         else
 #endif
             pair_forces_c(s, i, &ps);
@@ -687,7 +687,8 @@ static int maybe_rebuild(jam *s, int threads, const double disp2[2], int *builds
  * by FIRE. A minimum: rms force below ftol of the rms overlap and, with
  * the scale free, dU/dscale within ftol of the drive. Returns 0, -1 (out
  * of memory) or -2 (cancelled). */
-static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *steps_total, int *builds, double progress_lo, double progress_hi) {
+static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *steps_total,
+                    int *builds, double progress_lo, double progress_hi) {
     size_t n = s->n;
     double dm = s->dmean;
     memset(s->v, 0, 3 * n * sizeof *s->v);
@@ -833,7 +834,8 @@ static void project_centres(jam *s) {
             if (d <= want) break;
             double g[3];
             vp_container_gradient(s->c, x, g);
-            double step = (d - want) * (1.0 + 1e-9) + 1e-12 + 1e-9 * s->scale * R0(s, i) * (1 << it);
+            double step =
+                (d - want) * (1.0 + 1e-9) + 1e-12 + 1e-9 * s->scale * R0(s, i) * (1 << it);
             for (int k = 0; k < 3; k++) x[k] -= step * g[k];
         }
     }
@@ -926,8 +928,7 @@ static void core(jam *s, vp_jam_report *rep) {
     vp_depth_map dm;
     memset(&dm, 0, sizeof dm);
     const vp_depth_map *dmp = NULL;
-    if (s->c->depth_map && ci->interior_band < depth && s->c->depth_map(s->c, &dm) == 0)
-        dmp = &dm;
+    if (s->c->depth_map && ci->interior_band < depth && s->c->depth_map(s->c, &dm) == 0) dmp = &dm;
     for (size_t i = 0; i < s->n; i++) {
         if (deeper_than(s->c, dmp, s->x + 4 * i, depth)) {
             count++;
@@ -976,7 +977,8 @@ static vp_result check_params(vp_context *ctx, const vp_container *c, const vp_j
     if (!(dmin >= FLT_MIN) || !(dmax <= FLT_MAX))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "jam: radii must be in 1.2e-38..3.4e38 (radii are stored as float), "
-                       "not %g..%g", dmin, dmax);
+                       "not %g..%g",
+                       dmin, dmax);
     if (P->fit != VP_FIT_INSIDE && P->fit != VP_FIT_CENTER)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "jam: unknown fit");
     if (!(P->tolerance > 0) || !(P->tolerance < 0.1))
@@ -1012,7 +1014,8 @@ static vp_result sphere_count(vp_context *ctx, const vp_container *c, const vp_j
     if (n < 1)
         return vp_fail(ctx, VP_ERR_NO_FIT,
                        "jam: the container (volume %g) holds no sphere of mean volume %g at a "
-                       "fraction of %g", c->info.volume, v, P->target_fraction);
+                       "fraction of %g",
+                       c->info.volume, v, P->target_fraction);
     if (n >= (double)(UINT32_MAX / 64))
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: %.0f spheres are too many", n);
     double need = n * 160.0;
@@ -1152,8 +1155,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     }
     res = place_random(ctx, &s, P);
     if (res == VP_OK && P->radius_field) /* radii from a field at the starting centres */
-        res = vp_field_radii(ctx, c, P->radius_field, P->radius_field_mode, s.x, 4, s.x + 3, 4,
-                             n, 1, NULL, &s.r0max);
+        res = vp_field_radii(ctx, c, P->radius_field, P->radius_field_mode, s.x, 4, s.x + 3, 4, n,
+                             1, NULL, &s.r0max);
     if (res != VP_OK) goto done;
     double mean_r0 = 0;
     for (size_t i = 0; i < n; i++) mean_r0 += R0(&s, i);
@@ -1193,7 +1196,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
             /* the quench moves spheres far: a wide skin; then a narrow one */
             s.skin = SKIN * s.dmean;
             if (build_list(&s, threads) != 0) {
-                res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
+                res =
+                    vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
                 goto done;
             }
             builds++;
@@ -1201,7 +1205,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         /* the drive that holds a mean overlap of tau (r_i + r_j) over 3 n
          * contacts: dU/dscale = sum of overlap (r0_i + r0_j) */
         s.drive = 3.0 * (double)n * tau * s.scale * 4.0 * mean_r0 * mean_r0;
-        double ftol = mins == 0                                 ? QUENCH_TOL
+        double ftol = mins == 0                                ? QUENCH_TOL
                       : tau > FORCE_TOL_BELOW * FINISH_OVERLAP ? MID_TOL
                                                                : FORCE_TOL;
         int rc = minimize(&s, ctx, threads, ftol, &steps, &builds, plo,

@@ -130,8 +130,7 @@ static void solid_basis(vp_shape s, vp_lattice_basis *b) {
         b->source = "Betke & Henk 2000; Torquato & Jiao 2009 (0.8363574...)";
         break;
     }
-    default:
-        break;
+    default: break;
     }
 }
 

@@ -9,12 +9,12 @@
 #include "vdbpack/vdbpack.h"
 
 typedef struct vp_lattice_basis {
-    double a[3][3];      /* primitive vectors a1, a2, a3 (rows) */
-    int nsites;          /* points per primitive cell: 1 (Bravais) or 2 (HCP) */
-    double sites[2][3];  /* their offsets inside the cell (sites[0] = 0) */
-    double fraction;     /* literature packing fraction (volume fraction) */
-    const char *name;    /* e.g. "FCC (ABC)", "Minkowski octahedron lattice" */
-    const char *source;  /* reference */
+    double a[3][3];     /* primitive vectors a1, a2, a3 (rows) */
+    int nsites;         /* points per primitive cell: 1 (Bravais) or 2 (HCP) */
+    double sites[2][3]; /* their offsets inside the cell (sites[0] = 0) */
+    double fraction;    /* literature packing fraction (volume fraction) */
+    const char *name;   /* e.g. "FCC (ABC)", "Minkowski octahedron lattice" */
+    const char *source; /* reference */
 } vp_lattice_basis;
 
 /* Resolves VP_LATTICE_DEFAULT (FCC for spheres, DENSEST for solids).

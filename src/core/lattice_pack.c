@@ -36,12 +36,12 @@ typedef struct setup {
     double b[3][3];            /* world lattice vectors b[k] */
     double binv[3][3];         /* inverse of the matrix with columns b[k] */
     int nsites;
-    double sites[2][3];        /* world site offsets */
-    double lo[3], hi[3];       /* box that holds every admissible centre */
-    double tol;                /* rounding allowed at the wall (setup_build) */
-    double thr_in;             /* d <= thr_in - m: in for every offset */
-    double thr_out;            /* d >  thr_out + m: out for every offset */
-    const vp_depth_map *dm;    /* coarse depth bounds, or NULL (depth_map.h) */
+    double sites[2][3];     /* world site offsets */
+    double lo[3], hi[3];    /* box that holds every admissible centre */
+    double tol;             /* rounding allowed at the wall (setup_build) */
+    double thr_in;          /* d <= thr_in - m: in for every offset */
+    double thr_out;         /* d >  thr_out + m: out for every offset */
+    const vp_depth_map *dm; /* coarse depth bounds, or NULL (depth_map.h) */
 } setup;
 
 /* --- small helpers ------------------------------------------------------ */
@@ -154,8 +154,8 @@ static int fits(const setup *s, const double x[3]) {
 }
 
 /* Integer ranges of lattice coordinate k over box [lo,hi] at offset o. */
-static void coord_range(const setup *s, const double o[3], const double lo[3],
-                        const double hi[3], int k, long *kmin, long *kmax) {
+static void coord_range(const setup *s, const double o[3], const double lo[3], const double hi[3],
+                        int k, long *kmin, long *kmax) {
     double mn = HUGE_VAL, mx = -HUGE_VAL;
     for (int corner = 0; corner < 8; corner++) {
         double p[3];
@@ -178,8 +178,8 @@ static int visit_slab(const setup *s, const double o[3], const double lo[3], con
         for (long n2 = n2min; n2 <= n2max; n2++) {
             double base[3];
             for (int i = 0; i < 3; i++)
-                base[i] = o[i] + s->sites[site][i] + (double)n2 * s->b[1][i] +
-                          (double)n3 * s->b[2][i];
+                base[i] =
+                    o[i] + s->sites[site][i] + (double)n2 * s->b[1][i] + (double)n3 * s->b[2][i];
             double tmin = -HUGE_VAL, tmax = HUGE_VAL;
             int empty = 0;
             for (int i = 0; i < 3 && !empty; i++) {
@@ -189,7 +189,11 @@ static int visit_slab(const setup *s, const double o[3], const double lo[3], con
                     continue;
                 }
                 double t0 = (lo[i] - base[i]) / bi, t1 = (hi[i] - base[i]) / bi;
-                if (t0 > t1) { double t = t0; t0 = t1; t1 = t; }
+                if (t0 > t1) {
+                    double t = t0;
+                    t0 = t1;
+                    t1 = t;
+                }
                 if (t0 > tmin) tmin = t0;
                 if (t1 < tmax) tmax = t1;
             }
@@ -198,8 +202,8 @@ static int visit_slab(const setup *s, const double o[3], const double lo[3], con
             for (long n1 = a; n1 <= bnd; n1++) {
                 double x[3];
                 for (int i = 0; i < 3; i++) x[i] = base[i] + (double)n1 * s->b[0][i];
-                if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] ||
-                    x[2] < lo[2] || x[2] > hi[2])
+                if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] || x[2] < lo[2] ||
+                    x[2] > hi[2])
                     continue;
                 if (!fn(user, x)) return 0;
             }
@@ -221,7 +225,10 @@ static void list_push(point_list *l, const double x[3]) {
     if (l->n == l->cap) {
         size_t nc = l->cap ? l->cap * 2 : 1024;
         double *nx = realloc(l->x, nc * 3 * sizeof(double));
-        if (!nx) { l->oom = 1; return; }
+        if (!nx) {
+            l->oom = 1;
+            return;
+        }
         l->x = nx;
         l->cap = nc;
     }
@@ -234,9 +241,9 @@ typedef struct classify_job {
     double m;            /* largest offset norm */
     double lo[3], hi[3]; /* box grown by m */
     long n3min, n2min, n2max;
-    long slab_stride;    /* visit every slab_stride-th slab */
-    size_t *in_count;    /* per slab */
-    point_list *amb;     /* per slab */
+    long slab_stride; /* visit every slab_stride-th slab */
+    size_t *in_count; /* per slab */
+    point_list *amb;  /* per slab */
 } classify_job;
 
 typedef struct classify_slab {
@@ -264,14 +271,14 @@ static int classify_visit(void *user, const double x[3]) {
 static void classify_task(void *user, size_t i) {
     classify_job *j = user;
     classify_slab cs = {j, 0, &j->amb[i]};
-    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi,
-               j->n3min + (long)i * j->slab_stride, j->n2min, j->n2max, classify_visit, &cs);
+    visit_slab(j->s, (const double[3]){0, 0, 0}, j->lo, j->hi, j->n3min + (long)i * j->slab_stride,
+               j->n2min, j->n2max, classify_visit, &cs);
     j->in_count[i] = cs.in;
 }
 
 typedef struct classified {
     size_t always_in;
-    double *amb;   /* 3*namb */
+    double *amb; /* 3*namb */
     size_t namb;
     size_t stride; /* amb holds every stride-th ambiguous point */
     double m;
@@ -434,8 +441,8 @@ typedef struct search_cfg {
     uint64_t seed;
     int threads;
     vp_context *ctx;
-    const vp_depth_map *dm; /* or NULL */
-    long slab_stride;       /* > 1: estimate counts from every k-th slab */
+    const vp_depth_map *dm;         /* or NULL */
+    long slab_stride;               /* > 1: estimate counts from every k-th slab */
     const struct search_cfg *plain; /* also run (see search), or NULL */
 } search_cfg;
 
@@ -456,15 +463,14 @@ static int eval_many(const setup *s, const classified *cl, const double (*u)[3],
     return 0;
 }
 
-static vp_result search_once(const search_cfg *cfg, double r, placement *best,
-                             search_stats *st) {
+static vp_result search_once(const search_cfg *cfg, double r, placement *best, search_stats *st) {
     uint64_t rng = cfg->seed ^ 0x5EEDull;
     memset(best, 0, sizeof *best);
     best->q[3] = 1.0;
     int have = 0;
     int nrot = cfg->rotations < 1 ? 1 : cfg->rotations;
     int noff = cfg->offsets < 1 ? 1 : cfg->offsets;
-    double (*u)[3] = malloc(sizeof(double[3]) * (size_t)(noff > 8 ? noff : 8));
+    double(*u)[3] = malloc(sizeof(double[3]) * (size_t)(noff > 8 ? noff : 8));
     size_t *counts = malloc(sizeof(size_t) * (size_t)(noff > 8 ? noff : 8));
     if (!u || !counts) {
         free(u);
@@ -522,8 +528,7 @@ static vp_result search_once(const search_cfg *cfg, double r, placement *best,
         /* in chunks, so that cancellation (a signal in the CLI) is prompt */
         for (int c0 = 0; c0 < noff; c0 += 32) {
             int cn = noff - c0 < 32 ? noff - c0 : 32;
-            eval_many(&s, &cl, (const double(*)[3])(u + c0), (size_t)cn, counts + c0,
-                      cfg->threads);
+            eval_many(&s, &cl, (const double(*)[3])(u + c0), (size_t)cn, counts + c0, cfg->threads);
             if (!vp_report_progress(cfg->ctx, 0.8 * (rot + (double)(c0 + cn) / noff) / nrot,
                                     "placement search")) {
                 free(u);
@@ -744,13 +749,13 @@ typedef struct lattice_job {
     vp_lattice_basis lb;
     const vp_polyhedron *poly; /* NULL: sphere or superball */
     int superball;
-    double sb;                 /* superball exponent; 0: not a superball */
-    double unit_vol;           /* particle volume at radius 1 */
-    double extent;             /* the container's smallest extent */
-    int count_mode;            /* --count without --radius */
-    double r;                  /* the radius (count mode: the first guess) */
-    uint64_t limit;            /* the context's memory limit */
-    double m_unit;             /* largest offset / r (ambiguous_count) */
+    double sb;       /* superball exponent; 0: not a superball */
+    double unit_vol; /* particle volume at radius 1 */
+    double extent;   /* the container's smallest extent */
+    int count_mode;  /* --count without --radius */
+    double r;        /* the radius (count mode: the first guess) */
+    uint64_t limit;  /* the context's memory limit */
+    double m_unit;   /* largest offset / r (ambiguous_count) */
 } lattice_job;
 
 /* The searches of one call: the full one (cfg), the one without rotations
@@ -808,14 +813,15 @@ static vp_result check_arguments(vp_context *ctx, const vp_container *c,
     if (!J->count_mode && params->fit == VP_FIT_INSIDE && 2 * r * rin > extent)
         return vp_fail(ctx, VP_ERR_NO_FIT,
                        "radius %g is too large: no particle fits in the container (its smallest "
-                       "extent is %g)", r, extent);
+                       "extent is %g)",
+                       r, extent);
     if (params->fit == VP_FIT_INSIDE && J->count_mode && r > c->info.interior_band)
         r = c->info.interior_band;
     if (params->fit == VP_FIT_INSIDE && r > c->info.interior_band * (1 + 1e-9))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "radius %g exceeds the container's interior band %g (distances deeper "
-                       "inside are unknown); reload the container for this radius", r,
-                       c->info.interior_band);
+                       "inside are unknown); reload the container for this radius",
+                       r, c->info.interior_band);
     J->r = r;
     return VP_OK;
 }
@@ -835,7 +841,8 @@ static vp_result check_budget(lattice_job *J) {
         vp_format_bytes((double)limit, b, sizeof b);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
                        "about %.3g particles of radius %g need an estimated %s, more than the "
-                       "limit of %s (--max-memory)", est, r, a, b);
+                       "limit of %s (--max-memory)",
+                       est, r, a, b);
     }
     J->m_unit = 0.0;
     double amb = ambiguous_count(J->c, &J->lb, J->poly, J->sb, params->fit, r, &J->m_unit);
@@ -854,7 +861,8 @@ static vp_result check_budget(lattice_job *J) {
                        "lattice: at radius %g about %.3g lattice points lie near the container's "
                        "walls (all of them when it is only a few radii thick), and the placement "
                        "search would need an estimated %s for them, more than the limit of %s "
-                       "(--max-memory)", r, amb, a, b);
+                       "(--max-memory)",
+                       r, amb, a, b);
     }
     return VP_OK;
 }
@@ -912,8 +920,8 @@ static void plan_searches(const lattice_job *J, lattice_searches *S) {
  * the count asked, from the first search's radius J->r and placement
  * *best; the radius in J->r, its placement in *best. *stop says where a
  * guard stopped the steps. */
-static vp_result fit_count(lattice_job *J, lattice_searches *S, placement *best,
-                           search_stats *st, vp_lattice_report *rep, count_stop *stop) {
+static vp_result fit_count(lattice_job *J, lattice_searches *S, placement *best, search_stats *st,
+                           vp_lattice_report *rep, count_stop *stop) {
     const vp_container *c = J->c;
     const vp_lattice_params *params = J->params;
     search_cfg *cfg = &S->cfg, *quick = &S->quick;
@@ -1080,13 +1088,13 @@ vp_result vp_pack_lattice(vp_context *ctx, const vp_container *c, const vp_latti
         if (J.count_mode) res = fit_count(&J, &S, &best, &st, &rep, &stop);
     }
     if (res == VP_OK && J.count_mode && best.count == 0 && stop.wall_r > 0.0)
-        res = vp_fail(ctx, VP_ERR_NO_FIT,
-                      "lattice: --count %zu is out of reach in this container (smallest extent "
-                      "%g): no particle fits at radius %g or larger, and at radius %g about "
-                      "%.3g lattice points lie near its walls, too many to search for %zu; give "
-                      "--radius, or use --method rsa",
-                      params->count, J.extent, stop.min_r, stop.wall_r, stop.wall_amb,
-                      params->count);
+        res =
+            vp_fail(ctx, VP_ERR_NO_FIT,
+                    "lattice: --count %zu is out of reach in this container (smallest extent "
+                    "%g): no particle fits at radius %g or larger, and at radius %g about "
+                    "%.3g lattice points lie near its walls, too many to search for %zu; give "
+                    "--radius, or use --method rsa",
+                    params->count, J.extent, stop.min_r, stop.wall_r, stop.wall_amb, params->count);
     vp_particles *p = NULL;
     if (res == VP_OK) res = place(&J, &S, &best, &st, &rep, &p);
     vp_depth_map_free(&S.dm);

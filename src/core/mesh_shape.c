@@ -25,7 +25,7 @@ typedef struct bvh_build {
     struct bvh_key {
         double key;
         uint32_t tri;
-    } *keys;      /* ntris, scratch for the median splits */
+    } * keys; /* ntris, scratch for the median splits */
 } bvh_build;
 
 static int cmp_key(const void *a, const void *b) {
@@ -264,8 +264,8 @@ static int ray_tri(const vp_mesh_shape *m, const uint32_t *tri, const double o[3
 /* Walks the BVH along the ray o + t d for tmin < t < *tmax. nearest: each
  * hit shrinks *tmax and leaves its triangle's (unnormalised) normal in n;
  * otherwise *tmax stays and every hit is counted. Returns the hits. */
-static unsigned ray_walk(const vp_mesh_shape *m, const double o[3], const double d[3],
-                         double tmin, double *tmax, int nearest, double n[3]) {
+static unsigned ray_walk(const vp_mesh_shape *m, const double o[3], const double d[3], double tmin,
+                         double *tmax, int nearest, double n[3]) {
     double inv[3];
     for (int k = 0; k < 3; k++) inv[k] = 1.0 / d[k];
     uint32_t stack[128];
@@ -315,9 +315,10 @@ int vp_mesh_shape_contains(const vp_mesh_shape *m, const double p[3]) {
     /* three fixed directions in general position (not along any axis or
      * diagonal, where meshes keep their edges): a ray through an edge or a
      * vertex can miscount, two of three cannot both do so but by chance */
-    static const double dirs[3][3] = {{0.5378939618809205, 0.3915411878002461, 0.7465692091347053},
-                                      {-0.6230881925906245, 0.7044866501044696, 0.3397935609730288},
-                                      {0.2119123866410093, -0.8430492776704618, 0.4943288943683384}};
+    static const double dirs[3][3] = {
+        {0.5378939618809205, 0.3915411878002461, 0.7465692091347053},
+        {-0.6230881925906245, 0.7044866501044696, 0.3397935609730288},
+        {0.2119123866410093, -0.8430492776704618, 0.4943288943683384}};
     int in = 0;
     for (int r = 0; r < 3; r++) {
         double tmax = HUGE_VAL;
@@ -344,7 +345,7 @@ typedef struct pair_frame {
     double M[3][3]; /* B's unit coordinates -> A's unit coordinates */
     double c[3];
     double absM[3][3];
-    double scale;   /* sb / sa */
+    double scale; /* sb / sa */
 } pair_frame;
 
 static void to_a(const pair_frame *f, const double x[3], double out[3]) {
@@ -439,9 +440,8 @@ static int crossing(const vp_mesh_shape *ma, const vp_mesh_shape *mb, const pair
     return found;
 }
 
-int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
-                          const double ta[3], double sb, const double qb[4], const double tb[3],
-                          double *depth) {
+int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4], const double ta[3],
+                          double sb, const double qb[4], const double tb[3], double *depth) {
     return vp_mesh_shape_overlap2(m, sa, qa, ta, m, sb, qb, tb, depth);
 }
 
@@ -735,8 +735,8 @@ vp_result vp_mesh_shape_create(vp_context *ctx, const char *name, double *verts,
         double best = HUGE_VAL;
         for (size_t t = 0; t < s->ntris; t++) {
             double d = point_triangle_distance(zero, s->verts + 3 * (size_t)s->tris[3 * t],
-                                                  s->verts + 3 * (size_t)s->tris[3 * t + 1],
-                                                  s->verts + 3 * (size_t)s->tris[3 * t + 2]);
+                                               s->verts + 3 * (size_t)s->tris[3 * t + 1],
+                                               s->verts + 3 * (size_t)s->tris[3 * t + 2]);
             if (d < best) best = d;
         }
         s->inradius = best;

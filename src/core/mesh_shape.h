@@ -18,21 +18,21 @@ typedef struct vp_bvh_node {
 } vp_bvh_node;
 
 struct vp_mesh_shape {
-    char name[256];        /* the file's base name */
+    char name[256]; /* the file's base name */
     size_t nverts, ntris, nedges;
-    double *verts;         /* 3*nverts, centroid at the origin, bounding radius 1 */
-    uint32_t *tris;        /* 3*ntris, counter-clockwise seen from outside */
-    uint32_t *edges;       /* 2*nedges, each undirected edge once */
-    uint32_t *order;       /* ntris triangle indices in BVH leaf order */
+    double *verts;   /* 3*nverts, centroid at the origin, bounding radius 1 */
+    uint32_t *tris;  /* 3*ntris, counter-clockwise seen from outside */
+    uint32_t *edges; /* 2*nedges, each undirected edge once */
+    uint32_t *order; /* ntris triangle indices in BVH leaf order */
     vp_bvh_node *nodes;
     size_t nnodes;
-    uint32_t *reps;        /* one vertex of each connected component */
+    uint32_t *reps; /* one vertex of each connected component */
     size_t nreps;
-    double volume;         /* at bounding radius 1 */
-    double inradius;       /* distance from the origin to the surface when the
+    double volume;   /* at bounding radius 1 */
+    double inradius; /* distance from the origin to the surface when the
                               origin is inside, else 0 */
     double bb_lo[3], bb_hi[3];
-    double max_edge;       /* longest edge, unit shape */
+    double max_edge; /* longest edge, unit shape */
 };
 
 /* Builds a shape from a closed, consistently oriented triangle mesh (the
@@ -52,9 +52,8 @@ vp_result vp_mesh_shape_create(vp_context *ctx, const char *name, double *verts,
  * measure of how deep the overlap is (0 when apart): the largest
  * penetration depth over crossing triangle pairs, or the smaller scale
  * times the inradius when one copy lies inside the other. */
-int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4],
-                          const double ta[3], double sb, const double qb[4], const double tb[3],
-                          double *depth);
+int vp_mesh_shape_overlap(const vp_mesh_shape *m, double sa, const double qa[4], const double ta[3],
+                          double sb, const double qb[4], const double tb[3], double *depth);
 
 /* The same for copies of two meshes (ma at (sa, qa, ta), mb at (sb, qb,
  * tb)); vp_mesh_shape_overlap is this with ma == mb. */
@@ -86,6 +85,5 @@ int vp_mesh_shape_contains(const vp_mesh_shape *m, const double p[3]);
  * level sets, points of its edges and faces no more than a voxel apart. */
 struct vp_container;
 double vp_mesh_shape_wall_distance(const struct vp_container *c, const vp_mesh_shape *m,
-                                   double scale, const double q[4], const double t[3],
-                                   double stop);
+                                   double scale, const double q[4], const double t[3], double stop);
 #endif

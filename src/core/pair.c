@@ -51,8 +51,8 @@ int vp_kind_overlap_state(const vp_kind *ka, double sa, const double qa[4], cons
     double d2 = 0.0;
     for (int k = 0; k < 3; k++) d2 += (ta[k] - tb[k]) * (ta[k] - tb[k]);
     double e = sa + sb + gap, ein = ka->rin * sa + kb->rin * sb + gap;
-    if (d2 >= e * e) return 0;     /* bounding spheres apart (or touching) */
-    if (d2 < ein * ein) return 1;  /* inspheres overlap */
+    if (d2 >= e * e) return 0;    /* bounding spheres apart (or touching) */
+    if (d2 < ein * ein) return 1; /* inspheres overlap */
     if (gap > 0) {
         if (ka->mesh || kb->mesh) return 1; /* not offered: refuse */
         vp_convex A, B;
@@ -70,7 +70,8 @@ int vp_kind_overlap_state(const vp_kind *ka, double sa, const double qa[4], cons
         const double *tm = ka->mesh ? ta : tb, *tc = ka->mesh ? tb : ta;
         vp_convex C; /* posed about its own centre: small numbers */
         vp_convex_set(&C, kc->shape, kc->param, sc, qc, tc, tc);
-        return vp_mesh_shape_overlap_convex(km->mesh, sm, qm, tm, &C, tc, sc);  /* (refuses undecided) */
+        return vp_mesh_shape_overlap_convex(km->mesh, sm, qm, tm, &C, tc,
+                                            sc); /* (refuses undecided) */
     }
     if (ka->poly && ka->poly == kb->poly && !vp_shape_overlap_by_gjk(ka->shape))
         return vp_poly_separation(ka->poly, sa, qa, ta, kb->poly, sb, qb, tb) < 0;

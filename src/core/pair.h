@@ -15,11 +15,11 @@ struct vp_polyhedron;
 /* One shape with what its tests need, resolved once. */
 typedef struct vp_kind {
     vp_shape shape;
-    double param;                       /* superball exponent, else 0 */
-    const struct vp_polyhedron *poly;   /* solids, else NULL */
-    const vp_mesh_shape *mesh;          /* mesh shapes, else NULL */
-    double rin;                         /* insphere / bounding radius (1 for spheres) */
-    double unit_volume;                 /* at bounding radius 1 */
+    double param;                     /* superball exponent, else 0 */
+    const struct vp_polyhedron *poly; /* solids, else NULL */
+    const vp_mesh_shape *mesh;        /* mesh shapes, else NULL */
+    double rin;                       /* insphere / bounding radius (1 for spheres) */
+    double unit_volume;               /* at bounding radius 1 */
 } vp_kind;
 
 /* Fills k from a shape; returns 0, or -1 for an invalid one (unknown

@@ -18,8 +18,8 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#define POOL_MAX 63  /* workers beyond the calling thread */
-#define SPIN 2000    /* polls of the counter before sleeping (about 50 us) */
+#define POOL_MAX 63 /* workers beyond the calling thread */
+#define SPIN 2000   /* polls of the counter before sleeping (about 50 us) */
 
 #if defined(__x86_64__) || defined(__i386__)
 #define CPU_RELAX() __builtin_ia32_pause()
@@ -56,11 +56,11 @@ static struct {
     pthread_mutex_t mu;
     pthread_cond_t work, done;
     pthread_once_t once;
-    int cap;               /* most workers: the other cores (more would only
+    int cap;           /* most workers: the other cores (more would only
                               take turns on them, spinning) */
-    int nworkers;          /* under mu */
-    int busy;              /* under mu: a call holds the pool */
-    atomic_ulong call;     /* counter << 8 | workers taking part */
+    int nworkers;      /* under mu */
+    int busy;          /* under mu: a call holds the pool */
+    atomic_ulong call; /* counter << 8 | workers taking part */
     job *_Atomic cur;
     atomic_int pending;
     unsigned long born[POOL_MAX]; /* call when worker i was created */
@@ -125,7 +125,10 @@ static int spawn_for(int threads, job *j) {
     int started = 0, rc = 0;
     if (tids) {
         for (int t = 0; t < threads - 1; t++) {
-            if (pthread_create(&tids[t], NULL, thread_main, j) != 0) { rc = -1; break; }
+            if (pthread_create(&tids[t], NULL, thread_main, j) != 0) {
+                rc = -1;
+                break;
+            }
             started++;
         }
     } else {

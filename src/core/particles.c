@@ -58,10 +58,8 @@ const char *vp_particles_shape_list(const vp_particles *p, char *buf, size_t n) 
             snprintf(one, sizeof one, "mesh:%s", vp_mesh_shape_name(r.mesh));
         else if (r.shape == VP_SHAPE_MESH && p->shape == VP_SHAPE_MIXED && p->shape_names[k][0])
             snprintf(one, sizeof one, "mesh:%.*s", VP_SHAPE_NAME_MAX, p->shape_names[k]);
-        else if (r.shape == VP_SHAPE_MESH)
-            snprintf(one, sizeof one, "mesh");
-        else
-            vp_shape_format(r.shape, r.param, one, sizeof one);
+        else if (r.shape == VP_SHAPE_MESH) snprintf(one, sizeof one, "mesh");
+        else vp_shape_format(r.shape, r.param, one, sizeof one);
         int w = snprintf(buf + used, n - used, "%s%s", k ? ";" : "", one);
         if (w < 0 || (size_t)w >= n - used) break;
         used += (size_t)w;

@@ -54,11 +54,11 @@ typedef struct relax {
     vp_fit fit;
     double margin, gap; /* kept from the wall, between surfaces (world) */
     size_t n;
-    double *x;       /* 3n positions */
-    double *nx;      /* 3n positions after the sweep */
-    double *r;       /* n radii */
-    float *ov;       /* n worst relative overlap (pairs and wall) */
-    float *wall;     /* n wall overlap (world) */
+    double *x;   /* 3n positions */
+    double *nx;  /* 3n positions after the sweep */
+    double *r;   /* n radii */
+    float *ov;   /* n worst relative overlap (pairs and wall) */
+    float *wall; /* n wall overlap (world) */
     vp_sgrid g;
     double rmax;
     size_t chunk;
@@ -69,8 +69,8 @@ typedef struct nb {
     size_t i;
     double sum[3];
     int k;
-    double worst;    /* worst relative pair overlap */
-    double worst_abs;/* worst pair overlap (world) */
+    double worst;     /* worst relative pair overlap */
+    double worst_abs; /* worst pair overlap (world) */
 } nb;
 
 static int nb_visit(void *user, uint32_t j) {
@@ -147,7 +147,7 @@ static void sweep_chunk(void *user, size_t ci) {
 typedef struct final_q {
     const relax *s;
     size_t i;
-    double worst;   /* worst pair overlap (world) */
+    double worst; /* worst pair overlap (world) */
 } final_q;
 
 static int final_visit(void *user, uint32_t j) {
@@ -229,7 +229,8 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
     if (!(dmin >= FLT_MIN) || !(dmax <= FLT_MAX))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "relax: radii must be in 1.2e-38..3.4e38 (radii are stored as float), "
-                       "not %g..%g", dmin, dmax);
+                       "not %g..%g",
+                       dmin, dmax);
     if (P->count == 0) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "relax: count must be > 0");
     if (!(P->target_fraction >= 0) || !(P->target_fraction < 1))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -296,7 +297,8 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
         res = vp_fail(ctx, VP_ERR_NO_FIT,
                       "relax: %zu spheres of these radii fill %.3g times the container's volume, "
                       "more than any packing of spheres can hold (0.74); use fewer or smaller "
-                      "spheres, or --target-fraction", n, initial_fraction);
+                      "spheres, or --target-fraction",
+                      n, initial_fraction);
     if (res != VP_OK) goto done;
     double rmin = HUGE_VAL, rmax = 0;
     for (size_t i = 0; i < n; i++) {
@@ -310,9 +312,9 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
                       "span %g..%g, outside 1.2e-38..3.4e38 (radii are stored as float)",
                       P->target_fraction, rmin, rmax);
     else if (!(P->gap < rmin))
-        res = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                      "relax: the gap %g is not smaller than the smallest radius (%g)", P->gap,
-                      rmin);
+        res =
+            vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                    "relax: the gap %g is not smaller than the smallest radius (%g)", P->gap, rmin);
     if (res != VP_OK) goto done;
     /* random centres in the admissible region (overlaps allowed) */
     uint64_t ps = vp_rng_stream(P->seed, 2);
@@ -334,8 +336,8 @@ vp_result vp_pack_relax(vp_context *ctx, const vp_container *c, const vp_relax_p
         }
         if (!placed) {
             res = vp_fail(ctx, VP_ERR_NO_FIT,
-                          "relax: no place in the container for a sphere of radius %.6g (%s%s)",
-                          r, s.fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside",
+                          "relax: no place in the container for a sphere of radius %.6g (%s%s)", r,
+                          s.fit == VP_FIT_INSIDE ? "wholly inside" : "centre inside",
                           s.margin > 0 ? ", with the margin" : "");
             goto done;
         }

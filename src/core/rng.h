@@ -74,6 +74,9 @@ static inline void vp_rng_quat_shoemake(uint64_t *s, double q[4]) {
     double u1 = vp_rng_uniform(s), u2 = vp_rng_uniform(s) * 2 * M_PI,
            u3 = vp_rng_uniform(s) * 2 * M_PI;
     double a = sqrt(1 - u1), b = sqrt(u1);
-    q[0] = a * sin(u2); q[1] = a * cos(u2); q[2] = b * sin(u3); q[3] = b * cos(u3);
+    q[0] = a * sin(u2);
+    q[1] = a * cos(u2);
+    q[2] = b * sin(u3);
+    q[3] = b * cos(u3);
 }
 #endif

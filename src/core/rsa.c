@@ -102,11 +102,11 @@ static int reserve(rsa *s, size_t want) {
 typedef struct clr_query {
     const rsa *s;
     const double *x;
-    double best;   /* min |x - c_j| - r_j so far */
-    double stop;   /* stop as soon as best < stop */
-    size_t from;   /* only j >= from */
-    size_t upto;   /* only j < upto */
-    size_t skip;   /* never this j */
+    double best; /* min |x - c_j| - r_j so far */
+    double stop; /* stop as soon as best < stop */
+    size_t from; /* only j >= from */
+    size_t upto; /* only j < upto */
+    size_t skip; /* never this j */
 } clr_query;
 
 static int clr_visit(void *user, uint32_t j) {
@@ -155,10 +155,10 @@ typedef struct solid_query {
     const double *q;
     struct dart *lazy; /* q is this dart's, not drawn yet (else NULL) */
     double r;
-    size_t skip;     /* never this j (grow: the particle itself) */
-    size_t from;     /* only j >= from */
-    int posed;       /* cand holds the candidate posed about x */
-    int framed;      /* cubes: m holds the candidate's rotation */
+    size_t skip; /* never this j (grow: the particle itself) */
+    size_t from; /* only j >= from */
+    int posed;   /* cand holds the candidate posed about x */
+    int framed;  /* cubes: m holds the candidate's rotation */
     double m[3][3];
     vp_poly_posed cand;
     vp_convex cand_sb;
@@ -212,7 +212,7 @@ static int cube_quick_cand(solid_query *w, const double d[3], double rj) {
         w->framed = 1;
     }
     double nd[3] = {-d[0], -d[1], -d[2]}; /* c_j from the candidate's centre */
-    return vp_cube_center_test((const double (*)[3])w->m, s->rin * w->r, nd, s->rin * rj, rj,
+    return vp_cube_center_test((const double(*)[3])w->m, s->rin * w->r, nd, s->rin * rj, rj,
                                s->coord_eps);
 }
 
@@ -222,7 +222,7 @@ static int cube_quick_other(solid_query *w, const double d[3], double rj, uint32
     double mj[3][3];
     vp_quat_from_float(s->p->orients + 4 * (size_t)j, qj);
     vp_quat_to_matrix(qj, mj);
-    return vp_cube_center_test((const double (*)[3])mj, s->rin * rj, d, s->rin * w->r, w->r,
+    return vp_cube_center_test((const double(*)[3])mj, s->rin * rj, d, s->rin * w->r, w->r,
                                s->coord_eps);
 }
 
@@ -283,8 +283,8 @@ static int solid_visit(void *user, uint32_t j) {
     }
     if (s->mixed || s->pair_gap > 0) {
         double ein = excluded(s, w->r, j, rj), eb = s->reach * e + s->pair_gap;
-        if (d2 < ein * ein) return 1;                  /* inspheres (with the gap) overlap */
-        if (d2 >= eb * eb) return 0;                   /* bounding spheres apart */
+        if (d2 < ein * ein) return 1; /* inspheres (with the gap) overlap */
+        if (d2 >= eb * eb) return 0;  /* bounding spheres apart */
     } else {
         if (d2 < s->rin * s->rin * e * e) return 1;      /* inspheres overlap */
         if (d2 >= s->reach * s->reach * e * e) return 0; /* bounding spheres (boxes) apart */
@@ -514,7 +514,8 @@ static void make_darts(void *user, size_t ci) {
             if (s->pretest) t->clr = dart_solid_free(s, t, s->rmin);
             continue;
         }
-        if (t->d <= thr_ok(s, s->rmin) && s->n0) vp_sgrid_prefetch_cells(&s->g, t->p, t->p, s->rmax);
+        if (t->d <= thr_ok(s, s->rmin) && s->n0)
+            vp_sgrid_prefetch_cells(&s->g, t->p, t->p, s->rmax);
     }
     if (s->solid || !s->n0) return;
     for (size_t k = lo; k < hi; k++) {
@@ -524,8 +525,7 @@ static void make_darts(void *user, size_t ci) {
     }
     for (size_t k = lo; k < hi; k++) {
         dart *t = &s->darts[k];
-        if (t->d <= thr_ok(s, s->rmin))
-            t->clr = clearance(s, t->p, s->rmax, s->rmin, 0, s->n0);
+        if (t->d <= thr_ok(s, s->rmin)) t->clr = clearance(s, t->p, s->rmax, s->rmin, 0, s->n0);
     }
 }
 
@@ -637,22 +637,22 @@ typedef struct pass_run {
     const vp_rsa_pass *ps;
     unsigned index;
     vp_rsa_pass_report *rep;
-    double g;               /* gap_half: every radius drawn is packed inflated by it */
-    uint64_t rad_state;     /* the pass's stream of radii */
-    double cur_r;           /* the next particle's radius (kept until placed) */
-    size_t retries;         /* failed tries in a row that end the pass */
-    size_t want;            /* particles asked for (SIZE_MAX: maximal) */
-    int fill_dist;          /* maximal with a distribution of radii (spheres) */
-    int filling;            /* ... and now placing a radius cut at the room */
-    size_t fill_after;      /* failed tries in a row before filling */
-    size_t first;           /* the pass's first particle */
-    size_t consecutive;     /* failed tries in a row */
-    size_t level_darts;     /* darts thrown at this level */
-    size_t renumbered;      /* particles when last put in grid order */
-    uint64_t dart_index;    /* the next batch's first dart */
-    uint32_t *hits;         /* cells that received a particle in this batch */
+    double g;            /* gap_half: every radius drawn is packed inflated by it */
+    uint64_t rad_state;  /* the pass's stream of radii */
+    double cur_r;        /* the next particle's radius (kept until placed) */
+    size_t retries;      /* failed tries in a row that end the pass */
+    size_t want;         /* particles asked for (SIZE_MAX: maximal) */
+    int fill_dist;       /* maximal with a distribution of radii (spheres) */
+    int filling;         /* ... and now placing a radius cut at the room */
+    size_t fill_after;   /* failed tries in a row before filling */
+    size_t first;        /* the pass's first particle */
+    size_t consecutive;  /* failed tries in a row */
+    size_t level_darts;  /* darts thrown at this level */
+    size_t renumbered;   /* particles when last put in grid order */
+    uint64_t dart_index; /* the next batch's first dart */
+    uint32_t *hits;      /* cells that received a particle in this batch */
     size_t hit_cap, nhits;
-    size_t ok, used;        /* the batch's placed particles and darts used */
+    size_t ok, used; /* the batch's placed particles and darts used */
     int done;
 } pass_run;
 
@@ -818,9 +818,8 @@ static vp_result batch_accept(rsa *s, pass_run *pr, size_t B) {
         int good;
         if (s->pretest) { /* a solid, cur_r == rmin; earlier particles done */
             rep->pretested++;
-            good = t->clr != 0.0 &&
-                   (s->p->count == s->n0 ||
-                    solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
+            good = t->clr != 0.0 && (s->p->count == s->n0 ||
+                                     solid_clear_from(s, t->p, t->q, t, cur_r, SIZE_MAX, s->n0));
         } else if (s->solid) {
             good = dart_solid_free(s, t, cur_r);
             /* solids, maximal, sizes: the next try draws anew (the
@@ -830,8 +829,9 @@ static vp_result batch_accept(rsa *s, pass_run *pr, size_t B) {
         } else if (filling) {
             double room = dart_room(s, t);
             if ((good = room >= s->rmin) && cur_r > room) {
-                cur_r = (double)(float)(vp_size_dist_sample_below(&ps->radius, room - g,
-                                                                    &rad_state) + g);
+                cur_r =
+                    (double)(float)(vp_size_dist_sample_below(&ps->radius, room - g, &rad_state) +
+                                    g);
                 if (cur_r > room) cur_r = (double)nextafterf((float)cur_r, 0.0f);
                 if (cur_r < s->rmin) cur_r = s->rmin;
             }
@@ -952,9 +952,10 @@ static vp_result pass_refine(rsa *s, pass_run *pr) {
     const vp_rsa_pass *ps = pr->ps;
     pr->level_darts += pr->used;
     if (s->split_blocked || !((double)pr->ok < SPLIT_RATE * (double)pr->used) ||
-        !(pr->level_darts >= (s->solid         ? SPLIT_DARTS_SOLID
+        !(pr->level_darts >= (s->solid        ? SPLIT_DARTS_SOLID
                               : s->level == 0 ? SPLIT_DARTS_LEVEL0
-                                              : SPLIT_DARTS) * s->ncells))
+                                              : SPLIT_DARTS) *
+                                 s->ncells))
         return VP_OK;
     pr->level_darts = 0;
     if (s->level >= s->max_level && pr->fill_dist && !pr->filling) {
@@ -1093,8 +1094,8 @@ static vp_result resolve_kinds(vp_context *ctx, const vp_rsa_params *params, vp_
                                                         : "unknown shape");
         }
         unsigned u = 0;
-        while (u < *nkinds && !(kinds[u].shape == k.shape && kinds[u].param == k.param &&
-                                kinds[u].mesh == k.mesh))
+        while (u < *nkinds &&
+               !(kinds[u].shape == k.shape && kinds[u].param == k.param && kinds[u].mesh == k.mesh))
             u++;
         if (u == *nkinds) {
             if (u == VP_MAX_SHAPES)
@@ -1166,7 +1167,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
                        "boxes of rotated solids would not bound them)");
     double rmin = HUGE_VAL, rmax = 0, estimate = 0;
     double vmin = 0.0, r1 = 0.0; /* count passes' volume at their smallest sizes; last size */
-    size_t nall = 0;              /* particles the count passes ask for */
+    size_t nall = 0;             /* particles the count passes ask for */
     int equal = k0->shape == VP_SHAPE_SPHERE && !mixed; /* spheres of one radius */
     const vp_container_info *ci = &c->info;
     for (size_t i = 0; i < params->npasses; i++) {
@@ -1180,8 +1181,7 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: retries must be > 0",
                            i + 1);
         if (!ps->maximal && ps->count == 0)
-            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: count must be > 0",
-                           i + 1);
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "rsa: pass %zu: count must be > 0", i + 1);
         for (size_t k = 0; k < i; k++) { /* each pass its own group */
             char bk[VP_GROUP_NAME_MAX], bi[VP_GROUP_NAME_MAX];
             const char *nk = group_name(params, k, bk), *ni = group_name(params, i, bi);
@@ -1193,7 +1193,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         if (params->gap > 0 && !(params->gap < a))
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "rsa: pass %zu: the gap %.6g must be smaller than the smallest radius "
-                           "(%.6g)", i + 1, params->gap, a);
+                           "(%.6g)",
+                           i + 1, params->gap, a);
         if (a < rmin) rmin = a;
         if (b > rmax) rmax = b;
         /* maximal with sizes: between the count of the smallest and that
@@ -1322,7 +1323,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         if (s.bbox) {
             double c2 = 0.0;
             for (int k = 0; k < 3; k++) {
-                double m = fabs(s.bb_lo[k]) > fabs(s.bb_hi[k]) ? fabs(s.bb_lo[k]) : fabs(s.bb_hi[k]);
+                double m =
+                    fabs(s.bb_lo[k]) > fabs(s.bb_hi[k]) ? fabs(s.bb_lo[k]) : fabs(s.bb_hi[k]);
                 c2 += m * m;
             }
             s.reach = sqrt(c2);
@@ -1353,8 +1355,8 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
         snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "%s", group_name(params, i, b));
     }
     size_t grid_cells = (size_t)(2.0 * estimate) + 4096;
-    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin + s.gap_half, rmax + s.gap_half,
-                      grid_cells) != 0 ||
+    if (vp_sgrid_init(&s.g, ci->bmin, ci->bmax, rmin + s.gap_half, rmax + s.gap_half, grid_cells) !=
+            0 ||
         vp_sgrid_reserve(&s.g, (size_t)(estimate > 1024 ? estimate : 1024)) != 0) {
         vp_sgrid_free(&s.g);
         free(s.fpos);

@@ -24,7 +24,7 @@
 
 typedef struct fstate {
     vp_particles *p;
-    double *pos;   /* 3 per particle */
+    double *pos; /* 3 per particle */
     float *rad;
     uint16_t *grp;
     size_t cap;
@@ -92,8 +92,7 @@ vp_result vp_rsa_fields_pack(vp_context *ctx, const vp_container *c, const vp_rs
                            "rsa: pass %zu: count and retries must be > 0", i + 1);
         if (ps->grow)
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                           "rsa: pass %zu: grow does not go with a radius or density field",
-                           i + 1);
+                           "rsa: pass %zu: grow does not go with a radius or density field", i + 1);
         double a = absolute ? fmin : fmin * vp_size_dist_min(&ps->radius);
         double b = absolute ? fmax : fmax * vp_size_dist_max(&ps->radius);
         if (!(a > 0) || !isfinite(b))
@@ -102,7 +101,8 @@ vp_result vp_rsa_fields_pack(vp_context *ctx, const vp_container *c, const vp_rs
         if (params->gap > 0 && !(params->gap < a))
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "rsa: pass %zu: the gap %.6g must be smaller than the smallest radius "
-                           "the field gives (%.6g)", i + 1, params->gap, a);
+                           "the field gives (%.6g)",
+                           i + 1, params->gap, a);
         if (a < rmin) rmin = a;
         if (b > rmax) rmax = b;
         if (!ps->maximal && ps->count >= UINT32_MAX / 2)
@@ -126,8 +126,7 @@ vp_result vp_rsa_fields_pack(vp_context *ctx, const vp_container *c, const vp_rs
     for (size_t i = 0; i < params->npasses; i++) {
         if (params->passes[i].name[0])
             snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "%s", params->passes[i].name);
-        else
-            snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "pass%zu", i + 1);
+        else snprintf(s.p->group_names[i], VP_GROUP_NAME_MAX, "pass%zu", i + 1);
     }
     size_t n = 0;
     for (size_t i = 0; i < params->npasses && r == VP_OK; i++) {
@@ -172,14 +171,15 @@ vp_result vp_rsa_fields_pack(vp_context *ctx, const vp_container *c, const vp_rs
                 misses++;
                 continue;
             }
-            double rad = absolute ? vp_field_at(rf, x)
-                                  : vp_size_dist_sample(&ps->radius, &st) *
-                                        (rf ? vp_field_at(rf, x) : 1.0);
+            double rad =
+                absolute ? vp_field_at(rf, x)
+                         : vp_size_dist_sample(&ps->radius, &st) * (rf ? vp_field_at(rf, x) : 1.0);
             rad = float_radius(rad);
             if (!(rad > 0) || !isfinite(rad)) {
                 r = vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                             "rsa: the radius field gives %g at (%g, %g, %g); radii must be "
-                            "positive", rad, x[0], x[1], x[2]);
+                            "positive",
+                            rad, x[0], x[1], x[2]);
                 break;
             }
             misses = 0;

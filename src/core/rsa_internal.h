@@ -18,12 +18,12 @@
 #include "core/sgrid.h"
 #include "core/shape.h"
 
-#define SPLIT_RATE 0.25        /* split cells when fewer darts succeed */
-#define SPLIT_DARTS 4          /* ... and this many darts per cell were thrown at the level */
-#define SPLIT_DARTS_SOLID 2    /* (solids: their darts cost more, splitting sooner pays) */
-#define SPLIT_DARTS_LEVEL0 12  /* (spheres, level 0: a level-0 parent costs about 14 darts) */
-#define BYTES_PER_PARTICLE 64  /* estimate for the memory guard */
-#define VALID_BIT 0x80000000u  /* cell flag (in z): every point passes the container test */
+#define SPLIT_RATE 0.25       /* split cells when fewer darts succeed */
+#define SPLIT_DARTS 4         /* ... and this many darts per cell were thrown at the level */
+#define SPLIT_DARTS_SOLID 2   /* (solids: their darts cost more, splitting sooner pays) */
+#define SPLIT_DARTS_LEVEL0 12 /* (spheres, level 0: a level-0 parent costs about 14 darts) */
+#define BYTES_PER_PARTICLE 64 /* estimate for the memory guard */
+#define VALID_BIT 0x80000000u /* cell flag (in z): every point passes the container test */
 
 /* The look-ahead's AVX2 scan (rsa_split.c) where the compiler can build it;
  * used where the processor has it (vp_pack_rsa) */
@@ -36,7 +36,9 @@
  * when the cell was made (what stays true: placed spheres stay). Darts
  * landing there fail at once, without a neighbour query. top: the code
  * of its top ball (core/rsa_top.h), or VP_TOP_NONE. */
-typedef struct cell { uint32_t x, y, z, mask, top; } cell;
+typedef struct cell {
+    uint32_t x, y, z, mask, top;
+} cell;
 
 /* Active cells are stored packed: 4 bytes (10 bits per coordinate and the
  * valid flag in the top bit) at the levels whose coordinates fit in 10
@@ -52,16 +54,16 @@ typedef struct cell { uint32_t x, y, z, mask, top; } cell;
 
 typedef struct dart {
     double p[3];
-    double q[4];  /* orientation (solids), as stored: float, renormalised */
-    double d;     /* container distance (or -HUGE_VAL: cell known valid;
+    double q[4]; /* orientation (solids), as stored: float, renormalised */
+    double d;    /* container distance (or -HUGE_VAL: cell known valid;
                      HUGE_VAL: in a sub-cell proven empty, the dart fails) */
-    double clr;   /* spheres: min over earlier particles of |p - c_j| - r_j (capped);
+    double clr;  /* spheres: min over earlier particles of |p - c_j| - r_j (capped);
                      solids of a one-radius pass: 1 when the solid fits the wall and
                      overlaps no earlier particle, else 0 */
-    uint64_t st;  /* its random stream, between the sweeps of make_darts, and
+    uint64_t st; /* its random stream, between the sweeps of make_darts, and
                      for the orientation until it is drawn */
     uint32_t cell;
-    int qready;   /* solids: q has been drawn (when a test first needs it: a
+    int qready; /* solids: q has been drawn (when a test first needs it: a
                      dart rejected by a sphere test never draws it) */
 } dart;
 
@@ -69,50 +71,50 @@ typedef struct rsa {
     vp_context *ctx;
     const vp_container *c;
     vp_fit fit;
-    vp_particles *p;      /* positions stay NULL during the passes: in fpos */
-    float *fpos;          /* 3 per particle, relative to base: half the bytes of
+    vp_particles *p; /* positions stay NULL during the passes: in fpos */
+    float *fpos;     /* 3 per particle, relative to base: half the bytes of
                              doubles, so that darts and splits read half the
                              memory; a candidate is rounded to them before its
                              tests, so what is tested is what is stored */
-    double base[3];       /* the container's box centre */
+    double base[3];  /* the container's box centre */
     vp_sgrid g;
     const vp_polyhedron *poly; /* a platonic or Archimedean solid, or NULL */
     const vp_mesh_shape *mesh; /* a mesh shape, or NULL */
-    double sb;            /* a superball's exponent, or 0 */
-    int gjk;              /* superballs and the Archimedean solids: GJK on support
+    double sb;                 /* a superball's exponent, or 0 */
+    int gjk;                   /* superballs and the Archimedean solids: GJK on support
                              functions (vp_convex); platonic solids: the SAT */
     vp_shape shape;
-    int solid;            /* poly or mesh: not spheres (every pass of a mixed set) */
+    int solid; /* poly or mesh: not spheres (every pass of a mixed set) */
     /* several shapes (passes of their own shapes): the fields above are the
      * pass's kind (kinds[cur]); shape_index of the particle set gives each
      * particle's kind; pairs of two kinds go to vp_kind_overlap */
     int mixed;
     vp_kind kinds[VP_MAX_SHAPES];
     unsigned nkinds, cur;
-    double rin;           /* insphere / bounding-sphere radius (1 for spheres):
+    double rin;                /* insphere / bounding-sphere radius (1 for spheres):
                              two particles whose centres are closer than
                              rin (r_i + r_j) overlap whatever their orientation */
-    int orient_random;    /* solids: draw a rotation per particle */
-    int bbox;             /* solids: overlap by axis-aligned boxes */
-    int cube;             /* cubes with the exact test: most pairs are decided
+    int orient_random;         /* solids: draw a rotation per particle */
+    int bbox;                  /* solids: overlap by axis-aligned boxes */
+    int cube;                  /* cubes with the exact test: most pairs are decided
                              by one centre's distance to the other cube */
-    int avx2;             /* the look-ahead's ball scan four at a time (AVX2; not with
+    int avx2;                  /* the look-ahead's ball scan four at a time (AVX2; not with
                              VDBPACK_NO_SIMD=1: the same packing, tests compare) */
-    int no_top;           /* VDBPACK_NO_TOP_BALLS=1: darts never settled by a top ball
+    int no_top;                /* VDBPACK_NO_TOP_BALLS=1: darts never settled by a top ball
                              (the same packing, more slowly: tests compare) */
-    double coord_eps;     /* rounding of a difference of two coordinates (64 ulp
+    double coord_eps;          /* rounding of a difference of two coordinates (64 ulp
                              of the container's largest coordinate) */
     double bb_lo[3], bb_hi[3]; /* the unit solid's box (bbox mode) */
-    double reach;         /* bounding radius of what the overlap test compares, per
+    double reach;              /* bounding radius of what the overlap test compares, per
                              unit radius: 1, or the box's farthest corner (bbox) */
-    double max_r;         /* largest radius placed so far */
-    double min_r;         /* smallest radius placed so far (HUGE_VAL: none) */
-    double uni_r;         /* the radius of every particle placed so far, or 0 when
+    double max_r;              /* largest radius placed so far */
+    double min_r;              /* smallest radius placed so far (HUGE_VAL: none) */
+    double uni_r;              /* the radius of every particle placed so far, or 0 when
                              they differ: the neighbour tests then skip the load
                              of radii[j], a cache miss (particles are in placement
                              order, their neighbours anywhere in memory) */
-    double unit_volume;   /* of the shape at bounding radius 1 */
-    double lipschitz;     /* bound on |grad distance|: 1 analytic, sqrt(3) for
+    double unit_volume;        /* of the shape at bounding radius 1 */
+    double lipschitz;          /* bound on |grad distance|: 1 analytic, sqrt(3) for
                              level sets (trilinear interpolation) */
     int threads;
     size_t max_cells_param; /* vp_rsa_params.max_cells (0: automatic) */
@@ -122,20 +124,20 @@ typedef struct rsa {
      * the wall beyond touching it: margin - gap_half with fit inside (its
      * surface, deflated, keeps margin), margin with fit center (its centre) */
     double margin, gap_half, wall_off;
-    double pair_gap;      /* solids (and every pass of a mixed set): the gap,
+    double pair_gap; /* solids (and every pass of a mixed set): the gap,
                              tested exactly between the shapes grown by half
                              of it (gap_half is then 0: a solid's scale is no
                              offset of its surface) */
     /* the pass in progress */
-    double rmin, rmax;    /* radius range of the pass */
-    int pretest;          /* solids: the pass has one radius (rmin), so darts are
+    double rmin, rmax; /* radius range of the pass */
+    int pretest;       /* solids: the pass has one radius (rmin), so darts are
                              tested against the particles before their batch in
                              parallel, and only against the batch's own serially */
-    double side[32];      /* cell side at each level: side[0] 2^-level (levels
+    double side[32];   /* cell side at each level: side[0] 2^-level (levels
                              stay below 31: coordinates fit in 31 bits) */
-    double origin[3];     /* cell lattice origin */
-    double extent[3];     /* size of the box the cells tile (hi - lo) */
-    unsigned thin;        /* bit k: the box is thinner along axis k than a
+    double origin[3];  /* cell lattice origin */
+    double extent[3];  /* size of the box the cells tile (hi - lo) */
+    unsigned thin;     /* bit k: the box is thinner along axis k than a
                              level-0 cell (a slab or a needle). While a level's
                              side exceeds that extent, its cells are one cell
                              thick along k and darts are drawn in the cell cut
@@ -153,8 +155,8 @@ typedef struct rsa {
     /* batch */
     dart *darts;
     size_t ndarts;
-    size_t n0;            /* particles before the batch */
-    uint64_t dart_base;   /* global index of the batch's first dart */
+    size_t n0;          /* particles before the batch */
+    uint64_t dart_base; /* global index of the batch's first dart */
 } rsa;
 
 /* Container thresholds on the centre's distance d: d <= thr_ok(r) passes
@@ -238,8 +240,8 @@ static inline void cell_store(unsigned char *buf, size_t size, size_t i, cell c)
     }
     size--;
     if (size == 4) {
-        uint32_t k = c.x | c.y << PACK4_BITS | (c.z & ~VALID_BIT) << (2 * PACK4_BITS) |
-                     (c.z & VALID_BIT);
+        uint32_t k =
+            c.x | c.y << PACK4_BITS | (c.z & ~VALID_BIT) << (2 * PACK4_BITS) | (c.z & VALID_BIT);
         memcpy(e, &k, 4);
     } else if (size == 8) {
         uint64_t k = (uint64_t)c.x | (uint64_t)c.y << PACK_BITS |

@@ -88,17 +88,17 @@ static int keep_cell(const rsa *s, cell *c, int level) {
 /* Split work: parent cells [lo, hi) of chunk i into their own buffer. */
 typedef struct split_job {
     const rsa *s;
-    const unsigned char *parents; /* psize bytes each */
+    const unsigned char *parents;  /* psize bytes each */
     size_t nparents, psize, osize; /* parents; bytes of a parent, of a child */
-    int child_level;     /* level of the output cells */
-    int from_box;        /* level-0 build: "parents" are rows of the box */
+    int child_level;               /* level of the output cells */
+    int from_box;                  /* level-0 build: "parents" are rows of the box */
     int64_t dims[3];
     size_t chunk;
     unsigned char **out;
     size_t *nout, *cap;
-    size_t budget;       /* cells a chunk may make before the split gives up */
+    size_t budget; /* cells a chunk may make before the split gives up */
     int failed;
-    int over;            /* a chunk alone exceeded the budget */
+    int over; /* a chunk alone exceeded the budget */
 } split_job;
 
 /* A chunk's output while it is being made: kept by the thread that makes
@@ -142,10 +142,10 @@ typedef struct ball_list {
     double c[3][BALLS_MAX + 4];
     double e2[BALLS_MAX + 4]; /* (rin (rmin + r_j))^2 */
     const rsa *s;
-    double m[3];          /* parent centre */
-    double half;          /* parent half side */
-    double smin;          /* side of the smallest box the look-ahead tests */
-    double uni_e2;        /* (rin (rmin + r))^2 when every radius is r, else 0 */
+    double m[3];   /* parent centre */
+    double half;   /* parent half side */
+    double smin;   /* side of the smallest box the look-ahead tests */
+    double uni_e2; /* (rin (rmin + r))^2 when every radius is r, else 0 */
 } ball_list;
 
 static int gather_visit(void *user, uint32_t j) {
@@ -202,18 +202,21 @@ static size_t ball_scan(const ball_list *b, const double m[3], double h) {
 #include <immintrin.h>
 /* ball_scan four balls at a time with AVX2: the same arithmetic in the
  * same order as ball_holds_box (no FMA), so the same answer. */
-__attribute__((target("avx2"))) static size_t ball_scan_avx2(const ball_list *b,
-                                                             const double m[3], double h) {
+__attribute__((target("avx2"))) static size_t ball_scan_avx2(const ball_list *b, const double m[3],
+                                                             double h) {
     const __m256d sign = _mm256_set1_pd(-0.0), hh = _mm256_set1_pd(h);
     const __m256d m0 = _mm256_set1_pd(m[0]), m1 = _mm256_set1_pd(m[1]), m2 = _mm256_set1_pd(m[2]);
     for (size_t i = 0; i < b->n; i += 4) {
-        __m256d u0 = _mm256_add_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(m0, _mm256_loadu_pd(b->c[0] + i))), hh);
-        __m256d u1 = _mm256_add_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(m1, _mm256_loadu_pd(b->c[1] + i))), hh);
-        __m256d u2 = _mm256_add_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(m2, _mm256_loadu_pd(b->c[2] + i))), hh);
+        __m256d u0 = _mm256_add_pd(
+            _mm256_andnot_pd(sign, _mm256_sub_pd(m0, _mm256_loadu_pd(b->c[0] + i))), hh);
+        __m256d u1 = _mm256_add_pd(
+            _mm256_andnot_pd(sign, _mm256_sub_pd(m1, _mm256_loadu_pd(b->c[1] + i))), hh);
+        __m256d u2 = _mm256_add_pd(
+            _mm256_andnot_pd(sign, _mm256_sub_pd(m2, _mm256_loadu_pd(b->c[2] + i))), hh);
         __m256d f = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(u0, u0), _mm256_mul_pd(u1, u1)),
                                   _mm256_mul_pd(u2, u2));
-        unsigned bits = (unsigned)_mm256_movemask_pd(
-            _mm256_cmp_pd(f, _mm256_loadu_pd(b->e2 + i), _CMP_LT_OQ));
+        unsigned bits =
+            (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(f, _mm256_loadu_pd(b->e2 + i), _CMP_LT_OQ));
         if (i == 0) bits &= ~1u; /* ball 0 was tested before */
         if (bits) return i + (size_t)__builtin_ctz(bits);
     }
@@ -383,7 +386,8 @@ static void split_chunk_into(split_job *j, size_t i, split_out *out) {
         b->half = a;
         b->smin = ldexp(a, -depth);
         if (s->p->count) { /* balls (radius rin (rmin + r_j) <= rmin + r_j) meeting the parent */
-            double blo[3] = {pm[0] - a, pm[1] - a, pm[2] - a}, bhi[3] = {pm[0] + a, pm[1] + a, pm[2] + a};
+            double blo[3] = {pm[0] - a, pm[1] - a, pm[2] - a},
+                   bhi[3] = {pm[0] + a, pm[1] + a, pm[2] + a};
             /* a useful ball's centre lies closer than e - smin <= rmin + r_j - smin
              * to the box along each axis (gather_visit) */
             double reach = s->rmin - b->smin > 0 ? s->rmin - b->smin : 0.0;
@@ -392,7 +396,8 @@ static void split_chunk_into(split_job *j, size_t i, split_out *out) {
         ball_list_seal(b);
         for (int o = 0; o < 8; o++) {
             if (!(p.mask >> o & 1)) continue; /* proven empty when p was made */
-            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1), 0xFF, VP_TOP_NONE};
+            cell c = {2 * p.x + (o & 1), 2 * p.y + ((o >> 1) & 1), 2 * pz + ((o >> 2) & 1), 0xFF,
+                      VP_TOP_NONE};
             double m[3];
             cell_center(s, &c, j->child_level, m);
             int v = pvalid;
@@ -481,12 +486,12 @@ vp_result vp_rsa_split_cells(rsa *s, int from_box, const int64_t dims[3]) {
             /* level 0: the first sphere this pass places in a cell becomes
              * its top ball (in the serial loop), of exclusion radius
              * rmin + r, r in [rmin, rmax] of the pass */
-            ? vp_top_scale_make(2.0 * s->rmin, s->rmin + s->rmax,
-                                0.5 * sqrt(3.0) * cell_side(s, 0), s->coord_eps)
-        : s->p->count > 0
-            ? vp_top_scale_make(s->rmin + s->min_r, s->rmin + s->max_r,
-                                0.5 * sqrt(3.0) * cell_side(s, j.child_level), s->coord_eps)
-            : (vp_top_scale){0.0, 0.0};
+            ? vp_top_scale_make(2.0 * s->rmin, s->rmin + s->rmax, 0.5 * sqrt(3.0) * cell_side(s, 0),
+                                s->coord_eps)
+            : s->p->count > 0
+                  ? vp_top_scale_make(s->rmin + s->min_r, s->rmin + s->max_r,
+                                      0.5 * sqrt(3.0) * cell_side(s, j.child_level), s->coord_eps)
+                  : (vp_top_scale){0.0, 0.0};
     j.from_box = from_box;
     j.psize = s->csize;
     j.osize = cell_bytes(s, j.child_level);

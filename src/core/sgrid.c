@@ -114,8 +114,8 @@ void vp_sgrid_grow(vp_sgrid *g, uint32_t i, double r) {
  * reads (positions NULL: the rows; else their first particles). It walks
  * the rows as vp_sgrid_query_box does; a shared row walker would put a
  * call per row on the query's hot path. */
-static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi[3],
-                          double reach, const char *positions, size_t stride) {
+static void prefetch_rows(const vp_sgrid *g, const double lo[3], const double hi[3], double reach,
+                          const char *positions, size_t stride) {
     for (int l = 0; l < g->nlevels; l++) {
         const vp_sgrid_level *L = &g->lev[l];
         int64_t a[3], b[3];

@@ -19,21 +19,21 @@
 #define VP_SGRID_NONE UINT32_MAX
 
 typedef struct vp_sgrid_level {
-    double h;              /* cell size */
-    double inv_h;          /* 1 / h: cells are found by multiplying (monotone, and
+    double h;     /* cell size */
+    double inv_h; /* 1 / h: cells are found by multiplying (monotone, and
                               the same function for insertion and queries) */
     int64_t dims[3];
-    uint32_t *head;        /* dims[0]*dims[1]*dims[2] first indices, or NONE */
-    double rmax;           /* largest radius stored at this level */
+    uint32_t *head; /* dims[0]*dims[1]*dims[2] first indices, or NONE */
+    double rmax;    /* largest radius stored at this level */
 } vp_sgrid_level;
 
 typedef struct vp_sgrid {
     double origin[3];
     int nlevels;
     vp_sgrid_level lev[VP_SGRID_MAX_LEVELS];
-    uint32_t *next;        /* per particle: next index in its cell */
-    uint8_t *level_of;     /* per particle: its level (NULL with one level) */
-    size_t capacity;       /* of next/level_of */
+    uint32_t *next;    /* per particle: next index in its cell */
+    uint8_t *level_of; /* per particle: its level (NULL with one level) */
+    size_t capacity;   /* of next/level_of */
 } vp_sgrid;
 
 /* Sets up an empty grid over [lo, hi] for radii in [rmin, rmax] (rmax may
@@ -157,7 +157,8 @@ static inline int vp_sgrid_query_near_from(const vp_sgrid *g, const double p[3],
                 size_t row = (size_t)((z * L->dims[1] + y) * L->dims[0]);
                 for (int64_t x = a[0]; x <= b[0]; x++) {
                     if (row + (size_t)x == own) continue;
-                    for (uint32_t j = L->head[row + (size_t)x]; j != VP_SGRID_NONE && j >= from; j = g->next[j])
+                    for (uint32_t j = L->head[row + (size_t)x]; j != VP_SGRID_NONE && j >= from;
+                         j = g->next[j])
                         if (fn(user, j)) return 1;
                 }
             }

@@ -18,12 +18,25 @@
 /* ------------------------------------------------------------------ */
 /* Names                                                               */
 
-static const char *const vp_shape_names[VP_SHAPE_COUNT] = {
-    "sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron",
-    "truncated-tetrahedron", "cuboctahedron", "truncated-cube", "truncated-octahedron",
-    "rhombicuboctahedron", "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
-    "truncated-dodecahedron", "truncated-icosahedron", "rhombicosidodecahedron",
-    "truncated-icosidodecahedron", "snub-dodecahedron"};
+static const char *const vp_shape_names[VP_SHAPE_COUNT] = {"sphere",
+                                                           "tetrahedron",
+                                                           "cube",
+                                                           "octahedron",
+                                                           "dodecahedron",
+                                                           "icosahedron",
+                                                           "truncated-tetrahedron",
+                                                           "cuboctahedron",
+                                                           "truncated-cube",
+                                                           "truncated-octahedron",
+                                                           "rhombicuboctahedron",
+                                                           "truncated-cuboctahedron",
+                                                           "snub-cube",
+                                                           "icosidodecahedron",
+                                                           "truncated-dodecahedron",
+                                                           "truncated-icosahedron",
+                                                           "rhombicosidodecahedron",
+                                                           "truncated-icosidodecahedron",
+                                                           "snub-dodecahedron"};
 
 static const char *const vp_lattice_names[] = {"default", "sc", "bcc", "fcc", "hcp", "densest"};
 #define VP_LATTICE_NAME_COUNT ((int)(sizeof vp_lattice_names / sizeof vp_lattice_names[0]))
@@ -52,7 +65,10 @@ const char *vp_shape_name(vp_shape s) {
 int vp_shape_parse(const char *name, vp_shape *out) {
     if (!name || !out) return -1;
     for (int i = 0; i < VP_SHAPE_COUNT; ++i)
-        if (vp_streq_nocase(name, vp_shape_names[i])) { *out = (vp_shape)i; return 0; }
+        if (vp_streq_nocase(name, vp_shape_names[i])) {
+            *out = (vp_shape)i;
+            return 0;
+        }
     return -1;
 }
 
@@ -73,10 +89,8 @@ int vp_shape_parse_param(const char *text, vp_shape *out, double *param) {
 
 const char *vp_shape_format(vp_shape s, double param, char *buf, size_t n) {
     if (!buf || n == 0) return buf;
-    if (s == VP_SHAPE_SUPERBALL)
-        vp_superball_format(param, buf, n);
-    else
-        snprintf(buf, n, "%s", vp_shape_name(s) ? vp_shape_name(s) : "");
+    if (s == VP_SHAPE_SUPERBALL) vp_superball_format(param, buf, n);
+    else snprintf(buf, n, "%s", vp_shape_name(s) ? vp_shape_name(s) : "");
     return buf;
 }
 
@@ -96,7 +110,10 @@ const char *vp_lattice_name(vp_lattice l) {
 int vp_lattice_parse(const char *name, vp_lattice *out) {
     if (!name || !out) return -1;
     for (int i = 0; i < VP_LATTICE_NAME_COUNT; ++i)
-        if (vp_streq_nocase(name, vp_lattice_names[i])) { *out = (vp_lattice)i; return 0; }
+        if (vp_streq_nocase(name, vp_lattice_names[i])) {
+            *out = (vp_lattice)i;
+            return 0;
+        }
     return -1;
 }
 
@@ -112,20 +129,28 @@ static pthread_mutex_t vp_polys_lock = PTHREAD_MUTEX_INITIALIZER;
  * permutation, number of plus signs) accepts (NULL: all); duplicates (from
  * zero coordinates) dropped. Appends to v[*n]; returns -1 past the cap. */
 typedef int (*vp_sign_rule)(int parity, int plus);
-static int rule_even_minus(int parity, int plus) { (void)parity; return (3 - plus) % 2 == 0; }
+static int rule_even_minus(int parity, int plus) {
+    (void)parity;
+    return (3 - plus) % 2 == 0;
+}
 static int rule_snub_cube(int parity, int plus) { return plus % 2 == parity; }
-static int rule_even_plus(int parity, int plus) { (void)parity; return plus % 2 == 0; }
+static int rule_even_plus(int parity, int plus) {
+    (void)parity;
+    return plus % 2 == 0;
+}
 
 static int vp_orbit(const double (*seeds)[3], int nseeds, int even_only, vp_sign_rule keep,
                     double v[VP_POLY_MAX_VERTS][3], int *n) {
-    static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+    static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1},
+                                   {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
     for (int s = 0; s < nseeds; ++s)
         for (int pi = 0; pi < (even_only ? 3 : 6); ++pi)
             for (int sg = 0; sg < 8; ++sg) {
                 int plus = 3 - ((sg & 1) + ((sg >> 1) & 1) + ((sg >> 2) & 1));
                 if (keep && !keep(pi >= 3, plus)) continue;
                 double x[3];
-                for (int k = 0; k < 3; ++k) x[k] = ((sg >> k) & 1 ? -1.0 : 1.0) * seeds[s][perm[pi][k]];
+                for (int k = 0; k < 3; ++k)
+                    x[k] = ((sg >> k) & 1 ? -1.0 : 1.0) * seeds[s][perm[pi][k]];
                 int dup = 0;
                 for (int m = 0; m < *n && !dup; ++m)
                     dup = fabs(v[m][0] - x[0]) + fabs(v[m][1] - x[1]) + fabs(v[m][2] - x[2]) < 1e-9;
@@ -158,30 +183,39 @@ static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
     }
     case VP_SHAPE_CUBE:
         for (int i = 0; i < 8; ++i, ++n) {
-            v[n][0] = (i & 1) ? 1 : -1; v[n][1] = (i & 2) ? 1 : -1; v[n][2] = (i & 4) ? 1 : -1;
+            v[n][0] = (i & 1) ? 1 : -1;
+            v[n][1] = (i & 2) ? 1 : -1;
+            v[n][2] = (i & 4) ? 1 : -1;
         }
         break;
     case VP_SHAPE_OCTAHEDRON:
         for (int ax = 0; ax < 3; ++ax)
             for (int sg = -1; sg <= 1; sg += 2, ++n) {
-                v[n][0] = v[n][1] = v[n][2] = 0; v[n][ax] = sg;
+                v[n][0] = v[n][1] = v[n][2] = 0;
+                v[n][ax] = sg;
             }
         break;
     case VP_SHAPE_DODECAHEDRON:
         for (int i = 0; i < 8; ++i, ++n) {
-            v[n][0] = (i & 1) ? 1 : -1; v[n][1] = (i & 2) ? 1 : -1; v[n][2] = (i & 4) ? 1 : -1;
+            v[n][0] = (i & 1) ? 1 : -1;
+            v[n][1] = (i & 2) ? 1 : -1;
+            v[n][2] = (i & 4) ? 1 : -1;
         }
         for (int c = 0; c < 3; ++c)
             for (int i = 0; i < 4; ++i, ++n) {
                 double q[3] = {0, ((i & 1) ? 1 : -1) / phi, ((i & 2) ? 1 : -1) * phi};
-                v[n][c] = q[0]; v[n][(c + 1) % 3] = q[1]; v[n][(c + 2) % 3] = q[2];
+                v[n][c] = q[0];
+                v[n][(c + 1) % 3] = q[1];
+                v[n][(c + 2) % 3] = q[2];
             }
         break;
     case VP_SHAPE_ICOSAHEDRON:
         for (int c = 0; c < 3; ++c)
             for (int i = 0; i < 4; ++i, ++n) {
                 double q[3] = {0, (i & 1) ? 1 : -1, ((i & 2) ? 1 : -1) * phi};
-                v[n][c] = q[0]; v[n][(c + 1) % 3] = q[1]; v[n][(c + 2) % 3] = q[2];
+                v[n][c] = q[0];
+                v[n][(c + 1) % 3] = q[1];
+                v[n][(c + 2) % 3] = q[2];
             }
         break;
     case VP_SHAPE_TRUNCATED_TETRAHEDRON: {
@@ -215,7 +249,8 @@ static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
         break;
     }
     case VP_SHAPE_SNUB_CUBE: { /* t: the tribonacci constant */
-        const double t = (1.0 + cbrt(19.0 + 3.0 * sqrt(33.0)) + cbrt(19.0 - 3.0 * sqrt(33.0))) / 3.0;
+        const double t =
+            (1.0 + cbrt(19.0 + 3.0 * sqrt(33.0)) + cbrt(19.0 - 3.0 * sqrt(33.0))) / 3.0;
         const double sd[1][3] = {{1, 1 / t, t}};
         rc = vp_orbit(sd, 1, 0, rule_snub_cube, v, &n);
         break;
@@ -241,8 +276,11 @@ static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
         break;
     }
     case VP_SHAPE_TRUNCATED_ICOSIDODECAHEDRON: {
-        const double sd[5][3] = {{1 / p, 1 / p, 3 + p}, {2 / p, p, 1 + 2 * p},
-                                 {1 / p, p * p, 3 * p - 1}, {2 * p - 1, 2, 2 + p}, {p, 3, 2 * p}};
+        const double sd[5][3] = {{1 / p, 1 / p, 3 + p},
+                                 {2 / p, p, 1 + 2 * p},
+                                 {1 / p, p * p, 3 * p - 1},
+                                 {2 * p - 1, 2, 2 + p},
+                                 {p, 3, 2 * p}};
         rc = vp_orbit(sd, 5, 1, NULL, v, &n);
         break;
     }
@@ -258,8 +296,7 @@ static int vp_make_verts(vp_shape s, double v[VP_POLY_MAX_VERTS][3]) {
         rc = vp_orbit(sd, 5, 1, rule_even_plus, v, &n);
         break;
     }
-    default:
-        return 0;
+    default: return 0;
     }
     if (rc != 0) return 0;
     /* scale to circumradius 1 (all vertices are equidistant) */
@@ -301,7 +338,10 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
                     if (t < -eps) ++below;
                 }
                 if (above && below) continue;
-                if (above) { for (int c = 0; c < 3; ++c) nn[c] = -nn[c]; d = -d; }
+                if (above) {
+                    for (int c = 0; c < 3; ++c) nn[c] = -nn[c];
+                    d = -d;
+                }
                 int dup = 0;
                 for (int f = 0; f < P->nfaces; ++f)
                     if (vp_dot3(P->normals[f], nn) > 1 - 1e-9) dup = 1;
@@ -329,8 +369,12 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
                 }
                 for (int a = 1; a < cnt; ++a) /* insertion sort by angle */
                     for (int b = a; b > 0 && ang[b] < ang[b - 1]; --b) {
-                        double ta = ang[b]; ang[b] = ang[b - 1]; ang[b - 1] = ta;
-                        int ti = idx[b]; idx[b] = idx[b - 1]; idx[b - 1] = ti;
+                        double ta = ang[b];
+                        ang[b] = ang[b - 1];
+                        ang[b - 1] = ta;
+                        int ti = idx[b];
+                        idx[b] = idx[b - 1];
+                        idx[b - 1] = ti;
                     }
                 P->face_size[f] = cnt;
                 for (int m = 0; m < cnt; ++m) P->faces[f][m] = idx[m];
@@ -349,8 +393,13 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
             for (int q = 0; q < 3; ++q) area2[q] += c[q];
             for (int e = 0; e < P->nedges; ++e)
                 if ((P->edges[e][0] == a && P->edges[e][1] == b) ||
-                    (P->edges[e][0] == b && P->edges[e][1] == a)) dup = 1;
-            if (!dup) { P->edges[P->nedges][0] = a; P->edges[P->nedges][1] = b; ++P->nedges; }
+                    (P->edges[e][0] == b && P->edges[e][1] == a))
+                    dup = 1;
+            if (!dup) {
+                P->edges[P->nedges][0] = a;
+                P->edges[P->nedges][1] = b;
+                ++P->nedges;
+            }
         }
         P->volume += h * 0.5 * vp_dot3(area2, P->normals[f]) / 3.0;
     }
@@ -360,7 +409,8 @@ static void vp_build_poly(vp_shape s, vp_polyhedron *P) {
             memcpy(P->face_dirs[P->nface_dirs++], P->normals[f], sizeof P->normals[f]);
     for (int e = 0; e < P->nedges; ++e) {
         double d[3];
-        for (int c = 0; c < 3; ++c) d[c] = P->verts[P->edges[e][1]][c] - P->verts[P->edges[e][0]][c];
+        for (int c = 0; c < 3; ++c)
+            d[c] = P->verts[P->edges[e][1]][c] - P->verts[P->edges[e][0]][c];
         double len = vp_norm3(d);
         for (int c = 0; c < 3; ++c) d[c] /= len;
         if (!vp_dir_known(P->edge_dirs, P->nedge_dirs, d))
@@ -404,7 +454,8 @@ static void vp_interval(const double (*w)[3], int n, const double ax[3], double 
         if (t < mn) mn = t;
         if (t > mx) mx = t;
     }
-    *lo = mn; *hi = mx;
+    *lo = mn;
+    *hi = mx;
 }
 
 /* Gap of the two vertex sets along unit axis ax (negative: overlap). */
@@ -439,15 +490,15 @@ void vp_poly_pose(const vp_polyhedron *p, double scale, const double q[4], const
     out->nedge = useh ? p->nedge_dirs : p->nedges;
     for (int f = 0; f < out->nface; ++f) {
         const double *n = useh ? p->face_dirs[f] : p->normals[f];
-        for (int r = 0; r < 3; ++r)
-            out->f[f][r] = m[r][0] * n[0] + m[r][1] * n[1] + m[r][2] * n[2];
+        for (int r = 0; r < 3; ++r) out->f[f][r] = m[r][0] * n[0] + m[r][1] * n[1] + m[r][2] * n[2];
     }
     for (int e = 0; e < out->nedge; ++e) {
         double d[3];
         if (useh) {
             memcpy(d, p->edge_dirs[e], sizeof d);
         } else {
-            for (int c = 0; c < 3; ++c) d[c] = p->verts[p->edges[e][1]][c] - p->verts[p->edges[e][0]][c];
+            for (int c = 0; c < 3; ++c)
+                d[c] = p->verts[p->edges[e][1]][c] - p->verts[p->edges[e][0]][c];
             double l = vp_norm3(d);
             for (int c = 0; c < 3; ++c) d[c] /= l;
         }
@@ -458,7 +509,7 @@ void vp_poly_pose(const vp_polyhedron *p, double scale, const double q[4], const
 /* The SAT over both posed solids: the largest gap, or (stop_at_zero) the
  * first gap >= 0 as soon as one is found. */
 static double posed_sat(const vp_poly_posed *a, const vp_poly_posed *b, int stop_at_zero) {
-    const double (*wa)[3] = (const double (*)[3])a->w, (*wb)[3] = (const double (*)[3])b->w;
+    const double(*wa)[3] = (const double(*)[3])a->w, (*wb)[3] = (const double(*)[3])b->w;
     double best = -HUGE_VAL;
     for (int f = 0; f < a->nface; ++f) {
         double g = vp_axis_gap(wa, a->nverts, wb, b->nverts, a->f[f]);
@@ -479,7 +530,9 @@ static double posed_sat(const vp_poly_posed *a, const vp_poly_posed *b, int stop
              * covered by the face normals; skipping it can only make the
              * answer more conservative. */
             if (l < 1e-6) continue;
-            c[0] /= l; c[1] /= l; c[2] /= l;
+            c[0] /= l;
+            c[1] /= l;
+            c[2] /= l;
             double g = vp_axis_gap(wa, a->nverts, wb, b->nverts, c);
             if (g > best) best = g;
             if (stop_at_zero && best >= 0.0) return best;
@@ -496,7 +549,8 @@ int vp_poly_posed_overlap(const vp_poly_posed *a, const vp_poly_posed *b) {
 }
 
 double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
-                          const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]) {
+                          const vp_polyhedron *b, double sb, const double qb[4],
+                          const double tb[3]) {
     /* relative to a's centre, to keep the numbers small */
     vp_poly_posed pa, pb;
     vp_poly_pose(a, sa, qa, ta, ta, &pa);

@@ -25,9 +25,9 @@ typedef struct vp_polyhedron {
     int faces[VP_POLY_MAX_FACES][VP_POLY_MAX_FACE_VERTS]; /* counter-clockwise seen from outside */
     double normals[VP_POLY_MAX_FACES][3];                 /* outward unit face normals */
     int nedges;
-    int edges[VP_POLY_MAX_EDGES][2];                      /* unique undirected edges */
-    double volume;     /* at circumradius 1 */
-    double inradius;   /* at circumradius 1 */
+    int edges[VP_POLY_MAX_EDGES][2]; /* unique undirected edges */
+    double volume;                   /* at circumradius 1 */
+    double inradius;                 /* at circumradius 1 */
     /* Helpers for the separating-axis test: face normals and edge
      * directions, unit length and unique up to sign (centrally symmetric
      * solids have half as many as faces/edges). */
@@ -52,7 +52,8 @@ int vp_shape_overlap_by_gjk(vp_shape s);
  * 0: touching; < 0: overlapping, and -value is the penetration depth along
  * the best axis. Double precision. */
 double vp_poly_separation(const vp_polyhedron *a, double sa, const double qa[4], const double ta[3],
-                          const vp_polyhedron *b, double sb, const double qb[4], const double tb[3]);
+                          const vp_polyhedron *b, double sb, const double qb[4],
+                          const double tb[3]);
 
 /* A polyhedron placed at (scale, q, t) (q, t NULL: identity, origin),
  * relative to origin o (NULL: 0; use one centre for both solids of a test
@@ -92,8 +93,8 @@ int vp_cube_center_test(const double R[3][3], double h, const double d[3], doubl
  * maximum exceeds stop (then the value is only a lower bound). The packers
  * and vdbpack check share this test; <= 0 means wholly inside. */
 struct vp_container;
-double vp_poly_wall_distance(const struct vp_container *c, const vp_polyhedron *poly,
-                             double scale, const double q[4], const double t[3], double stop);
+double vp_poly_wall_distance(const struct vp_container *c, const vp_polyhedron *poly, double scale,
+                             const double q[4], const double t[3], double stop);
 
 /* The samplers behind the wall tests (poly_wall.c, mesh_shape.c): each
  * returns 1 once the running maximum of the container distance is above

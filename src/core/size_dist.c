@@ -35,8 +35,7 @@ static int parse_pos(const char *s, const char *end, double *out) {
 }
 
 static vp_result bad(vp_context *ctx, const char *text, const char *why) {
-    if (ctx)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "size '%s': %s", text, why);
+    if (ctx) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "size '%s': %s", text, why);
     return VP_ERR_INVALID_ARGUMENT;
 }
 
@@ -46,13 +45,15 @@ static vp_result float_range(vp_context *ctx, const char *text, const vp_size_di
                              vp_size_dist *out) {
     double lo = vp_size_dist_min(d), hi = vp_size_dist_max(d);
     if (!(lo >= FLT_MIN))
-        return bad(ctx, text, d->kind == VP_SIZE_CONSTANT
-                                  ? "a radius must be at least 1.2e-38 (radii are stored as float)"
-                                  : "its sizes reach below 1.2e-38 (radii are stored as float)");
+        return bad(ctx, text,
+                   d->kind == VP_SIZE_CONSTANT
+                       ? "a radius must be at least 1.2e-38 (radii are stored as float)"
+                       : "its sizes reach below 1.2e-38 (radii are stored as float)");
     if (!(hi <= FLT_MAX))
-        return bad(ctx, text, d->kind == VP_SIZE_CONSTANT
-                                  ? "a radius must be at most 3.4e38 (radii are stored as float)"
-                                  : "its sizes reach above 3.4e38 (radii are stored as float)");
+        return bad(ctx, text,
+                   d->kind == VP_SIZE_CONSTANT
+                       ? "a radius must be at most 3.4e38 (radii are stored as float)"
+                       : "its sizes reach above 3.4e38 (radii are stored as float)");
     *out = d[0];
     return VP_OK;
 }
@@ -65,8 +66,9 @@ vp_result vp_size_dist_parse(vp_context *ctx, const char *text, vp_size_dist *ou
     if (!colon) {
         double v;
         if (parse_pos(text, text + strlen(text), &v) != 0)
-            return bad(ctx, text, "not a number or a distribution (uniform:A:B, "
-                                  "lognormal:MEAN:SD, list:R1:R2:...)");
+            return bad(ctx, text,
+                       "not a number or a distribution (uniform:A:B, "
+                       "lognormal:MEAN:SD, list:R1:R2:...)");
         if (!(v > 0)) return bad(ctx, text, "a radius must be > 0");
         vp_size_dist_constant(&d, v);
         return float_range(ctx, text, &d, out);
@@ -106,8 +108,9 @@ vp_result vp_size_dist_parse(vp_context *ctx, const char *text, vp_size_dist *ou
         d.n = n;
         memcpy(d.values, vals, n * sizeof *vals);
     } else {
-        return bad(ctx, text, "unknown distribution (uniform:A:B, lognormal:MEAN:SD, "
-                              "list:R1:R2:...)");
+        return bad(ctx, text,
+                   "unknown distribution (uniform:A:B, lognormal:MEAN:SD, "
+                   "list:R1:R2:...)");
     }
     return float_range(ctx, text, &d, out);
 }

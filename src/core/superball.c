@@ -41,7 +41,11 @@ static void raw_support(double p, const double d[3], double x[3]) {
     double a[3] = {fabs(d[0]), fabs(d[1]), fabs(d[2])};
     double m = a[0] > a[1] ? a[0] : a[1];
     if (a[2] > m) m = a[2];
-    if (!(m > 0)) { x[0] = 1.0; x[1] = x[2] = 0.0; return; }
+    if (!(m > 0)) {
+        x[0] = 1.0;
+        x[1] = x[2] = 0.0;
+        return;
+    }
     if (p <= 0.5 + 1e-12) { /* the octahedron: a vertex */
         int k = a[0] >= a[1] && a[0] >= a[2] ? 0 : a[1] >= a[2] ? 1 : 2;
         x[0] = x[1] = x[2] = 0.0;
@@ -52,7 +56,7 @@ static void raw_support(double p, const double d[3], double x[3]) {
     for (int k = 0; k < 3; k++) {
         double u = a[k] / m;
         t[k] = p == 2.0 ? cbrt(u) : p == 1.0 ? u : pow(u, e); /* t^(q*-1) */
-        s += t[k] * u;                                           /* t^q* */
+        s += t[k] * u;                                        /* t^q* */
     }
     double n = p == 1.0 ? sqrt(s) : p == 2.0 ? sqrt(sqrt(s)) : pow(s, 0.5 / p);
     for (int k = 0; k < 3; k++) x[k] = (d[k] < 0 ? -t[k] : t[k]) / n;
@@ -95,7 +99,10 @@ void vp_convex_support(const vp_convex *c, const double d[3], double x[3]) {
         double bv = vp_dot3(c->tri[0], d);
         for (int v = 1; v < 3; v++) {
             double s = vp_dot3(c->tri[v], d);
-            if (s > bv) { bv = s; best = v; }
+            if (s > bv) {
+                bv = s;
+                best = v;
+            }
         }
         memcpy(x, c->tri[best], 3 * sizeof *x);
         return;
@@ -110,7 +117,10 @@ void vp_convex_support(const vp_convex *c, const double d[3], double x[3]) {
         double bv = -HUGE_VAL;
         for (int v = 0; v < c->poly->nverts; v++) {
             double s = vp_dot3(c->poly->verts[v], l);
-            if (s > bv) { bv = s; best = v; }
+            if (s > bv) {
+                bv = s;
+                best = v;
+            }
         }
         memcpy(y, c->poly->verts[best], sizeof y);
     } else {
@@ -133,7 +143,9 @@ static void mdiff(const vp_convex *a, const vp_convex *b, const double d[3], dou
 }
 
 static void sub3(const double a[3], const double b[3], double o[3]) {
-    o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2];
+    o[0] = a[0] - b[0];
+    o[1] = a[1] - b[1];
+    o[2] = a[2] - b[2];
 }
 /* (a x b) x c */
 static void triple(const double a[3], const double b[3], const double c[3], double o[3]) {
@@ -185,7 +197,9 @@ static int do_simplex(double s[4][3], int *n, double d[3]) {
             memcpy(tmp, s[0], sizeof tmp);
             memcpy(s[0], s[1], sizeof tmp);
             memcpy(s[1], tmp, sizeof tmp);
-            d[0] = -ABC[0]; d[1] = -ABC[1]; d[2] = -ABC[2];
+            d[0] = -ABC[0];
+            d[1] = -ABC[1];
+            d[2] = -ABC[2];
         } else {
             return 1; /* in the triangle's plane, inside it */
         }
@@ -213,17 +227,32 @@ static int do_simplex(double s[4][3], int *n, double d[3]) {
     vp_cross3(AC, AD, n2); /* face ACD */
     vp_cross3(AD, AB, n3); /* face ADB */
     /* orient each face normal away from the fourth vertex */
-    if (vp_dot3(n1, AD) > 0) { n1[0] = -n1[0]; n1[1] = -n1[1]; n1[2] = -n1[2]; }
-    if (vp_dot3(n2, AB) > 0) { n2[0] = -n2[0]; n2[1] = -n2[1]; n2[2] = -n2[2]; }
-    if (vp_dot3(n3, AC) > 0) { n3[0] = -n3[0]; n3[1] = -n3[1]; n3[2] = -n3[2]; }
+    if (vp_dot3(n1, AD) > 0) {
+        n1[0] = -n1[0];
+        n1[1] = -n1[1];
+        n1[2] = -n1[2];
+    }
+    if (vp_dot3(n2, AB) > 0) {
+        n2[0] = -n2[0];
+        n2[1] = -n2[1];
+        n2[2] = -n2[2];
+    }
+    if (vp_dot3(n3, AC) > 0) {
+        n3[0] = -n3[0];
+        n3[1] = -n3[1];
+        n3[2] = -n3[2];
+    }
     double a[3], b[3], c[3];
     memcpy(a, A, sizeof a);
     if (vp_dot3(n1, AO) > 0) {
-        memcpy(b, B, sizeof b); memcpy(c, C, sizeof c);
+        memcpy(b, B, sizeof b);
+        memcpy(c, C, sizeof c);
     } else if (vp_dot3(n2, AO) > 0) {
-        memcpy(b, C, sizeof b); memcpy(c, D, sizeof c);
+        memcpy(b, C, sizeof b);
+        memcpy(c, D, sizeof c);
     } else if (vp_dot3(n3, AO) > 0) {
-        memcpy(b, D, sizeof b); memcpy(c, B, sizeof c);
+        memcpy(b, D, sizeof b);
+        memcpy(c, B, sizeof c);
     } else {
         return 1; /* inside every face */
     }
@@ -245,7 +274,9 @@ int vp_convex_overlap_state(const vp_convex *a, const vp_convex *b) {
     mdiff(a, b, d, w);
     memcpy(s[0], w, sizeof w);
     int n = 1;
-    d[0] = -w[0]; d[1] = -w[1]; d[2] = -w[2];
+    d[0] = -w[0];
+    d[1] = -w[1];
+    d[2] = -w[2];
     for (int it = 0; it < 96; it++) {
         if (vp_dot3(d, d) == 0) return 1;
         mdiff(a, b, d, w);
@@ -285,7 +316,10 @@ static double pnorm(double p, const double x[3]) {
     return pow(s, 0.5 / p);
 }
 
-typedef struct { double x[3]; uint32_t id; } keyed;
+typedef struct {
+    double x[3];
+    uint32_t id;
+} keyed;
 static int cmp_keyed(const void *a, const void *b) {
     const keyed *u = a, *v = b;
     for (int k = 0; k < 3; k++)
@@ -300,7 +334,10 @@ static vp_mesh_shape *build_mesh(double p, double *inflate_out) {
     uint32_t *t = malloc(nt * 3 * sizeof *t), *remap = malloc(nv * sizeof *remap);
     keyed *ks = malloc(nv * sizeof *ks);
     if (!v || !t || !remap || !ks) {
-        free(v); free(t); free(remap); free(ks);
+        free(v);
+        free(t);
+        free(remap);
+        free(ks);
         return NULL;
     }
     const double R = vp_superball_circumradius(p);
@@ -326,7 +363,13 @@ static vp_mesh_shape *build_mesh(double p, double *inflate_out) {
     qsort(ks, nv, sizeof *ks, cmp_keyed);
     size_t nu = 0;
     double *vu = malloc(nv * 3 * sizeof *vu);
-    if (!vu) { free(v); free(t); free(remap); free(ks); return NULL; }
+    if (!vu) {
+        free(v);
+        free(t);
+        free(remap);
+        free(ks);
+        return NULL;
+    }
     for (size_t i = 0; i < nv; i++) {
         if (i > 0 && memcmp(ks[i - 1].x, ks[i].x, sizeof ks[i].x) == 0) {
             remap[ks[i].id] = (uint32_t)(nu - 1);
@@ -348,7 +391,12 @@ static vp_mesh_shape *build_mesh(double p, double *inflate_out) {
                 /* (u, w, ax) is right-handed: u x w = +ax, so a b c runs
                  * counter-clockwise seen from outside on the + faces */
                 uint32_t q[6] = {a, b, c, a, c, d};
-                if (sg < 0) { q[1] = c; q[2] = b; q[4] = d; q[5] = c; }
+                if (sg < 0) {
+                    q[1] = c;
+                    q[2] = b;
+                    q[4] = d;
+                    q[5] = c;
+                }
                 (void)ax;
                 for (int k = 0; k < 6; k++) t[3 * ti + k] = q[k];
                 ti += 2;
@@ -358,7 +406,8 @@ static vp_mesh_shape *build_mesh(double p, double *inflate_out) {
      * the surface, sampled on each triangle, with a margin */
     double worst = 1.0;
     for (size_t k = 0; k < ti; k++) {
-        const double *P0 = vu + 3 * t[3 * k], *P1 = vu + 3 * t[3 * k + 1], *P2 = vu + 3 * t[3 * k + 2];
+        const double *P0 = vu + 3 * t[3 * k], *P1 = vu + 3 * t[3 * k + 1],
+                     *P2 = vu + 3 * t[3 * k + 2];
         const int m = 8;
         for (int i = 0; i <= m; i++)
             for (int j = 0; i + j <= m; j++) {
@@ -369,7 +418,9 @@ static vp_mesh_shape *build_mesh(double p, double *inflate_out) {
             }
     }
     *inflate_out = 1.0 + 1.5 * (worst - 1.0) + 1e-9;
-    free(v); free(remap); free(ks);
+    free(v);
+    free(remap);
+    free(ks);
     vp_mesh_shape *ms = NULL;
     char name[64];
     vp_superball_format(p, name, sizeof name);
@@ -382,7 +433,10 @@ const vp_mesh_shape *vp_superball_mesh(double p, double *inflate) {
     double inf = 1.0;
     pthread_mutex_lock(&sb_lock);
     for (int i = 0; i < sb_ncache; i++)
-        if (sb_cache[i].p == p) { out = sb_cache[i].m; inf = sb_cache[i].inflate; }
+        if (sb_cache[i].p == p) {
+            out = sb_cache[i].m;
+            inf = sb_cache[i].inflate;
+        }
     if (!out && sb_ncache < SB_CACHE) {
         vp_mesh_shape *m = build_mesh(p, &inf);
         if (m) {
@@ -422,7 +476,10 @@ static double bisect(double (*f)(double, double), double p, double lo, double hi
     for (int i = 0; i < 200 && hi - lo > 0; i++) {
         double mid = 0.5 * (lo + hi), fm = f(p, mid);
         if (mid <= lo || mid >= hi) break;
-        if ((fm < 0) == (flo < 0)) { lo = mid; flo = fm; } else hi = mid;
+        if ((fm < 0) == (flo < 0)) {
+            lo = mid;
+            flo = fm;
+        } else hi = mid;
     }
     return 0.5 * (lo + hi);
 }
@@ -442,9 +499,15 @@ static double po_star(void) { return log(3.0) / log(4.0); }
 
 static void o1_vectors(const double x[3], double a[3][3]) {
     const double l = x[0], q = x[1], s = x[2];
-    a[0][0] = 2 * l; a[0][1] = 2 * l; a[0][2] = -2 * l;
-    a[1][0] = -2 * q; a[1][1] = 2 * s; a[1][2] = -2 * q;
-    a[2][0] = 2 * q; a[2][1] = -2 * q; a[2][2] = -2 * s;
+    a[0][0] = 2 * l;
+    a[0][1] = 2 * l;
+    a[0][2] = -2 * l;
+    a[1][0] = -2 * q;
+    a[1][1] = 2 * s;
+    a[1][2] = -2 * q;
+    a[2][0] = 2 * q;
+    a[2][1] = -2 * q;
+    a[2][2] = -2 * s;
 }
 
 /* The lattice a scaled to contact: the least gauge of v/2 over the
@@ -487,7 +550,11 @@ static void o1_refine(double p, double x[3], double a[3][3]) {
                 double y[3] = {x[0], x[1], x[2]};
                 y[i] += sg * step;
                 double fy = o1_density(p, y);
-                if (fy > f) { memcpy(x, y, sizeof y); f = fy; better = 1; }
+                if (fy > f) {
+                    memcpy(x, y, sizeof y);
+                    f = fy;
+                    better = 1;
+                }
             }
         if (!better) step *= 0.5;
     }
@@ -504,24 +571,33 @@ static int family_basis(vp_superball_family f, double p, double a[3][3]) {
     case VP_SB_C0: { /* eq. 2 */
         if (p < 1.0) return -1;
         double s = bisect(c0_eq, p, 0.0, 1.0);
-        a[0][0] = k; a[0][1] = k;
+        a[0][0] = k;
+        a[0][1] = k;
         a[1][2] = 2.0;
-        a[2][0] = -2.0 * s; a[2][1] = 2.0 * (s + c); a[2][2] = 1.0;
+        a[2][0] = -2.0 * s;
+        a[2][1] = 2.0 * (s + c);
+        a[2][2] = 1.0;
         return 0;
     }
     case VP_SB_C1: { /* eq. 7 */
         if (p < 1.0) return -1;
         double s = bisect(c1_eq, p, 0.0, 1.0);
-        a[0][0] = k; a[0][1] = k;
-        a[1][0] = k; a[1][2] = k;
-        a[2][0] = 2.0 * (s + c); a[2][1] = -2.0 * s; a[2][2] = -2.0 * s;
+        a[0][0] = k;
+        a[0][1] = k;
+        a[1][0] = k;
+        a[1][2] = k;
+        a[2][0] = 2.0 * (s + c);
+        a[2][1] = -2.0 * s;
+        a[2][2] = -2.0 * s;
         return 0;
     }
     case VP_SB_O0: { /* eq. 10; every other layer would overlap below p*_o (eq. 11) */
         if (p < po_star()) return -1;
         a[0][0] = 2.0;
         a[1][1] = 2.0;
-        a[2][0] = 1.0; a[2][1] = 1.0; a[2][2] = 2.0 * pow(1.0 - pow(2.0, 1.0 - 2.0 * p), 0.5 / p);
+        a[2][0] = 1.0;
+        a[2][1] = 1.0;
+        a[2][2] = 2.0 * pow(1.0 - pow(2.0, 1.0 - 2.0 * p), 0.5 / p);
         return 0;
     }
     case VP_SB_O1: { /* eqs. 15-16 as the paper's starting point (the root of
@@ -534,7 +610,11 @@ static int family_basis(vp_superball_family f, double p, double a[3][3]) {
         double prev = o1_eq(p, 0.0), lo = -1, hi = -1;
         for (int i = 1; i <= steps; i++) {
             double q = qmax * i / steps, v = o1_eq(p, q);
-            if ((v < 0) != (prev < 0)) { lo = qmax * (i - 1) / steps; hi = q; break; }
+            if ((v < 0) != (prev < 0)) {
+                lo = qmax * (i - 1) / steps;
+                hi = q;
+                break;
+            }
             prev = v;
         }
         if (lo < 0) return -1;
@@ -596,7 +676,8 @@ int vp_superball_parse(const char *text, double *p) {
     const char *v = text + sizeof key - 1;
     char *end = NULL;
     double x = strtod(v, &end);
-    if (end == v || *end != '\0' || !isfinite(x) || x < VP_SUPERBALL_P_MIN || x > VP_SUPERBALL_P_MAX)
+    if (end == v || *end != '\0' || !isfinite(x) || x < VP_SUPERBALL_P_MIN ||
+        x > VP_SUPERBALL_P_MAX)
         return -2;
     *p = x;
     return 0;

@@ -32,15 +32,15 @@ void vp_superball_support(double p, const double d[3], double x[3]);
 /* A convex shape seen through its support function, posed at (scale, q,
  * t) relative to an origin chosen by the caller. */
 typedef struct vp_convex {
-    int kind;             /* 0 sphere, 1 superball, 2 polyhedron (vertex hull),
+    int kind; /* 0 sphere, 1 superball, 2 polyhedron (vertex hull),
                              3 triangle (vp_convex_set_triangle) */
-    double p;             /* superball exponent */
+    double p; /* superball exponent */
     const vp_polyhedron *poly;
     double scale;
-    double m[3][3];       /* rotation, local to world */
-    double t[3];          /* the centre (a triangle: its centroid) */
-    double tri[3][3];     /* kind 3: the corners, relative to the origin */
-    double inflate;       /* the shape grown by this distance (its Minkowski sum
+    double m[3][3];   /* rotation, local to world */
+    double t[3];      /* the centre (a triangle: its centroid) */
+    double tri[3][3]; /* kind 3: the corners, relative to the origin */
+    double inflate;   /* the shape grown by this distance (its Minkowski sum
                              with a ball): a gap kept between two shapes is
                              their overlap grown by half of it each; 0 after
                              vp_convex_set */

@@ -25,22 +25,22 @@
 #define INV_4PI 0.079577471545947667884 /* 1 / (4 pi) */
 
 typedef struct wnode {
-    double c[3];      /* area-weighted centre of the node's triangles */
-    double n[3];      /* sum of their vector areas (outward) */
-    double m[9];      /* second moment: sum of vector area (row) times the
+    double c[3];    /* area-weighted centre of the node's triangles */
+    double n[3];    /* sum of their vector areas (outward) */
+    double m[9];    /* second moment: sum of vector area (row) times the
                          triangle's centroid less c (column) */
-    double r;         /* radius about c of the ball holding their corners */
-    uint32_t left;    /* first child (the second is left + 1); 0: a leaf */
-    uint32_t first;   /* leaf: its triangles are tri[first .. first + count) */
+    double r;       /* radius about c of the ball holding their corners */
+    uint32_t left;  /* first child (the second is left + 1); 0: a leaf */
+    uint32_t first; /* leaf: its triangles are tri[first .. first + count) */
     uint32_t count;
-    uint32_t rims;    /* triangles with a boundary edge in the subtree */
+    uint32_t rims; /* triangles with a boundary edge in the subtree */
 } wnode;
 
 struct vp_winding {
     wnode *node;
     size_t nnodes;
-    double *tri;      /* 9 doubles a triangle (its corners), in tree order */
-    uint8_t *rim;     /* 1: the triangle has a boundary edge (tree order) */
+    double *tri;  /* 9 doubles a triangle (its corners), in tree order */
+    uint8_t *rim; /* 1: the triangle has a boundary edge (tree order) */
     size_t ntris;
 };
 
@@ -115,18 +115,22 @@ static void select_kth(builder *b, size_t lo, size_t hi, size_t k, int axis) {
     while (hi - lo > 1) {
         size_t mid = lo + (hi - lo) / 2;
         double x0 = KEY(lo), x1 = KEY(mid), x2 = KEY(hi - 1);
-        double pivot = x0 < x1 ? (x1 < x2 ? x1 : (x0 < x2 ? x2 : x0))
-                               : (x0 < x2 ? x0 : (x1 < x2 ? x2 : x1));
+        double pivot =
+            x0 < x1 ? (x1 < x2 ? x1 : (x0 < x2 ? x2 : x0)) : (x0 < x2 ? x0 : (x1 < x2 ? x2 : x1));
         size_t lt = lo, i = lo, gt = hi; /* [lo,lt) <, [lt,i) ==, [gt,hi) > */
         while (i < gt) {
             double x = KEY(i);
             if (x < pivot) {
-                uint32_t s = v[lt]; v[lt] = v[i]; v[i] = s;
+                uint32_t s = v[lt];
+                v[lt] = v[i];
+                v[i] = s;
                 lt++;
                 i++;
             } else if (x > pivot) {
                 gt--;
-                uint32_t s = v[gt]; v[gt] = v[i]; v[i] = s;
+                uint32_t s = v[gt];
+                v[gt] = v[i];
+                v[i] = s;
             } else {
                 i++;
             }
@@ -213,7 +217,8 @@ static void fill_moments(vp_winding *w) {
         } else { /* degenerate triangles only: their corners' mean */
             t = w->tri + 9 * (size_t)nd->first;
             for (uint32_t i = 0; i < nd->count; i++, t += 9)
-                for (int j = 0; j < 3; j++) c[j] += (t[j] + t[3 + j] + t[6 + j]) / (3.0 * nd->count);
+                for (int j = 0; j < 3; j++)
+                    c[j] += (t[j] + t[3 + j] + t[6 + j]) / (3.0 * nd->count);
         }
         double mm[9] = {0};
         t = w->tri + 9 * (size_t)nd->first;
@@ -244,8 +249,8 @@ static void fill_moments(vp_winding *w) {
     }
 }
 
-vp_winding *vp_winding_build(const double *verts, size_t nverts, const uint32_t *tris,
-                             size_t ntris, const uint8_t *rim) {
+vp_winding *vp_winding_build(const double *verts, size_t nverts, const uint32_t *tris, size_t ntris,
+                             const uint8_t *rim) {
     if (!verts || !tris || ntris == 0 || ntris >= UINT32_MAX / 4) return NULL;
     (void)nverts;
     vp_winding *w = calloc(1, sizeof *w);
@@ -257,8 +262,10 @@ vp_winding *vp_winding_build(const double *verts, size_t nverts, const uint32_t 
     for (size_t t = 0; t < ntris; t++) {
         b.idx[t] = (uint32_t)t;
         for (int k = 0; k < 3; k++)
-            cen[3 * t + k] = (verts[3 * (size_t)tris[3 * t] + k] + verts[3 * (size_t)tris[3 * t + 1] + k] +
-                              verts[3 * (size_t)tris[3 * t + 2] + k]) / 3.0;
+            cen[3 * t + k] =
+                (verts[3 * (size_t)tris[3 * t] + k] + verts[3 * (size_t)tris[3 * t + 1] + k] +
+                 verts[3 * (size_t)tris[3 * t + 2] + k]) /
+                3.0;
     }
     b.cen = cen;
     if (build_tree(&b, ntris) != 0) goto fail;
@@ -491,7 +498,11 @@ static int covers(const double *T, double s, double pu, double pv, int u, int v,
 static void cross_triangle(const double *T, int a, const double lo[3], double h,
                            const unsigned char *lines, int *cross, int *degenerate) {
     int u = (a + 1) % 3, v = (a + 2) % 3;
-    if (u > v) { int t = u; u = v; v = t; } /* the other axes, in axis order */
+    if (u > v) {
+        int t = u;
+        u = v;
+        v = t;
+    } /* the other axes, in axis order */
     double e1[3] = {T[3] - T[0], T[4] - T[1], T[5] - T[2]};
     double e2[3] = {T[6] - T[0], T[7] - T[1], T[8] - T[2]};
     double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
@@ -630,9 +641,9 @@ void vp_winding_block(const vp_winding *w, const double lo[3], double h, double 
     /* crossings: x at (j, k) = (0, 0), y at k = 0, z everywhere */
     int cx[64] = {0}, cy[512] = {0}, cz[512] = {0};
     unsigned char line_x[64] = {0}, line_y[64] = {0}, line_z[64];
-    line_x[0] = 1;                                  /* (y, z) = (0, 0) */
+    line_x[0] = 1;                                 /* (y, z) = (0, 0) */
     for (int i = 0; i < 8; i++) line_y[i * 8] = 1; /* (x, z) = (i, 0) */
-    memset(line_z, 1, sizeof line_z);               /* every (x, y) */
+    memset(line_z, 1, sizeof line_z);              /* every (x, y) */
     int degenerate = 0;
     for (long t = 0; t < nt; t++) {
         const double *T = w->tri + 9 * (size_t)tris[t];

@@ -23,8 +23,8 @@ typedef struct vp_winding vp_winding;
  * for vp_winding_block. The arrays are copied: the tree owns what it needs.
  * NULL when out of memory. Immutable once built: evaluation is safe from
  * several threads at once. */
-vp_winding *vp_winding_build(const double *verts, size_t nverts, const uint32_t *tris,
-                             size_t ntris, const uint8_t *rim);
+vp_winding *vp_winding_build(const double *verts, size_t nverts, const uint32_t *tris, size_t ntris,
+                             const uint8_t *rim);
 void vp_winding_destroy(vp_winding *w); /* NULL: no-op */
 
 /* The winding number at q. */
@@ -43,6 +43,5 @@ void vp_winding_batch(const vp_winding *w, const double *pts, size_t n, double *
  * triangles. */
 void vp_winding_block(const vp_winding *w, const double lo[3], double h, double *out);
 /* The same by the exact sum over every triangle (tests, and small meshes). */
-double vp_winding_exact(const double *verts, const uint32_t *tris, size_t ntris,
-                        const double q[3]);
+double vp_winding_exact(const double *verts, const uint32_t *tris, size_t ntris, const double q[3]);
 #endif

@@ -27,7 +27,8 @@ vp_result vpio_write_csv(vp_context *ctx, const char *path, const vp_particles *
     if (r == VP_OK) r = vpio_check_writable(ctx, path, p, 0, "CSV");
     if (r != VP_OK) return r;
     for (unsigned g = 0; g < p->group_count; g++)
-        if (!vpio_valid_group_name(p->group_names[g], strnlen(p->group_names[g], VP_GROUP_NAME_MAX)))
+        if (!vpio_valid_group_name(p->group_names[g],
+                                   strnlen(p->group_names[g], VP_GROUP_NAME_MAX)))
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: group %u has no valid name", path, g);
     /* a mixed set: each shape's name, which must hold no comma */
     int mixed = p->shape == VP_SHAPE_MIXED;
@@ -43,7 +44,8 @@ vp_result vpio_write_csv(vp_context *ctx, const char *path, const vp_particles *
             if (strchr(names[k - 1], ','))
                 return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                                "%s: shape '%s' has a comma in its name, which a CSV field "
-                               "cannot hold", path, names[k - 1]);
+                               "cannot hold",
+                               path, names[k - 1]);
             if (!b) break;
         }
         if (!p->has_orient || k != p->shape_count || !p->shape_index)
@@ -59,12 +61,12 @@ vp_result vpio_write_csv(vp_context *ctx, const char *path, const vp_particles *
         fprintf(f, "%zu,%.17g,%.17g,%.17g,%.9g", i, x[0], x[1], x[2], (double)vpio_radius(p, i));
         if (p->has_orient) {
             const float *q = vpio_orient(p, i);
-            fprintf(f, ",%.9g,%.9g,%.9g,%.9g", (double)q[0], (double)q[1], (double)q[2], (double)q[3]);
+            fprintf(f, ",%.9g,%.9g,%.9g,%.9g", (double)q[0], (double)q[1], (double)q[2],
+                    (double)q[3]);
         }
         if (mixed)
             fprintf(f, ",%s,%s\n", p->group_names[vpio_group(p, i)], names[p->shape_index[i]]);
-        else
-            fprintf(f, ",%s\n", p->group_names[vpio_group(p, i)]);
+        else fprintf(f, ",%s\n", p->group_names[vpio_group(p, i)]);
     }
     return vpio_close(ctx, &o, 0);
 }
@@ -89,11 +91,11 @@ static int field_int(const char *s, long long *out) {
 
 typedef struct rows {
     size_t n, cap;
-    double *x;      /* 3 per row */
+    double *x; /* 3 per row */
     float *r;
-    float *q;       /* 4 per row, or NULL */
+    float *q; /* 4 per row, or NULL */
     uint16_t *g;
-    uint8_t *s;     /* shape index per row, or NULL */
+    uint8_t *s; /* shape index per row, or NULL */
     long long *id;
 } rows;
 
@@ -152,7 +154,8 @@ vp_result vpio_read_csv(vp_context *ctx, const char *path, vp_particles **out, i
         size_t len = strlen(line);
         if (len == 0 || line[len - 1] != '\n') {
             r = BAD(feof(f) ? "%s: line %zu has no newline at the end (truncated file?)"
-                            : "%s: line %zu is longer than 4 KiB or holds a NUL byte", path, lineno);
+                            : "%s: line %zu is longer than 4 KiB or holds a NUL byte",
+                    path, lineno);
             goto done;
         }
         line[--len] = 0;
@@ -162,14 +165,15 @@ vp_result vpio_read_csv(vp_context *ctx, const char *path, vp_particles **out, i
             else if (!strcmp(line, k_head_qs)) with_q = with_s = 1;
             else if (strcmp(line, k_head) != 0) {
                 r = BAD("%s: not a CSV that vdbpack reads: the header row must be '%s', '%s' or "
-                        "'%s'", path, k_head, k_head_q, k_head_qs);
+                        "'%s'",
+                        path, k_head, k_head_q, k_head_qs);
                 goto done;
             }
             continue;
         }
         char *fld[12];
         int nf = 0;
-        for (char *s = line;; ) {
+        for (char *s = line;;) {
             if (nf == 12) break;
             fld[nf++] = s;
             char *c = strchr(s, ',');
@@ -196,16 +200,19 @@ vp_result vpio_read_csv(vp_context *ctx, const char *path, vp_particles **out, i
         }
         for (int c = 0; c < 3; c++)
             if (field_double(fld[1 + c], &x[c]) != 0) {
-                r = BAD("%s: line %zu: %c '%s' is not a number", path, lineno, "xyz"[c], fld[1 + c]);
+                r = BAD("%s: line %zu: %c '%s' is not a number", path, lineno, "xyz"[c],
+                        fld[1 + c]);
                 goto done;
             }
         if (field_double(fld[4], &ps) != 0 || !(ps < 3.4e38)) {
-            r = BAD("%s: line %zu: pscale '%s' is not a number in float range", path, lineno, fld[4]);
+            r = BAD("%s: line %zu: pscale '%s' is not a number in float range", path, lineno,
+                    fld[4]);
             goto done;
         }
         for (int c = 0; c < 4 && with_q; c++)
             if (field_double(fld[5 + c], &q[c]) != 0) {
-                r = BAD("%s: line %zu: q%c '%s' is not a number", path, lineno, "xyzw"[c], fld[5 + c]);
+                r = BAD("%s: line %zu: q%c '%s' is not a number", path, lineno, "xyzw"[c],
+                        fld[5 + c]);
                 goto done;
             }
         if ((r = vpio_check_values(ctx, path, "line", lineno, x, ps, with_q ? q : NULL)) != VP_OK)
@@ -238,7 +245,8 @@ vp_result vpio_read_csv(vp_context *ctx, const char *path, vp_particles **out, i
                 if (nshapes == VP_MAX_SHAPES || strlen(sn) >= sizeof snames[0] ||
                     vp_shape_list_parse(sn, &shapes[u], &one, &snames_short[u]) != 0 || one != 1) {
                     r = BAD("%s: line %zu: shape '%s' is not a shape name (or more than %d "
-                            "shapes)", path, lineno, sn, VP_MAX_SHAPES);
+                            "shapes)",
+                            path, lineno, sn, VP_MAX_SHAPES);
                     goto done;
                 }
                 snprintf(snames[nshapes++], sizeof snames[0], "%s", sn);

@@ -107,8 +107,8 @@ vp_result vp_import(vp_context *ctx, const char *path, vp_format format, vp_part
  * as many as the largest face has; 0 for an unknown shape. */
 static double obj_bytes_per_particle(vp_shape_ref ref, double n, const vp_export_params *params) {
     int v = 0, f = 0;
-    const vp_mesh_shape *um = ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL)
-                                                              : ref.mesh;
+    const vp_mesh_shape *um =
+        ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL) : ref.mesh;
     if ((ref.shape == VP_SHAPE_MESH || ref.shape == VP_SHAPE_SUPERBALL) && um) {
         v = (int)vp_mesh_shape_triangles(um) / 2 + 2; /* closed genus-0 estimate */
         f = (int)vp_mesh_shape_triangles(um);
@@ -130,14 +130,17 @@ double vp_export_estimate_bytes(const vp_particles *p, vp_format format,
     double n = (double)p->count;
     int o = p->has_orient;
     switch (format) {
-    case VP_FORMAT_PLY: return 1024 + n * (4 * 3 + 4 + 4 + (o ? 16 : 0) + 1 + (p->shape_index ? 1 : 0));
-    case VP_FORMAT_CSV: return 64 + n * (10 + 3 * 24 + 15 + (o ? 4 * 15 : 0) + 8 + (p->shape_index ? 40 : 0));
+    case VP_FORMAT_PLY:
+        return 1024 + n * (4 * 3 + 4 + 4 + (o ? 16 : 0) + 1 + (p->shape_index ? 1 : 0));
+    case VP_FORMAT_CSV:
+        return 64 + n * (10 + 3 * 24 + 15 + (o ? 4 * 15 : 0) + 8 + (p->shape_index ? 40 : 0));
     case VP_FORMAT_VDB: return n * (o ? 40 : 24);
     case VP_FORMAT_OBJ: { /* a mixed set: as if every particle were its largest shape */
         double most = 0.0;
         unsigned nk = p->shape == VP_SHAPE_MIXED ? p->shape_count : 1;
         for (unsigned k = 0; k < nk && k < VP_MAX_SHAPES; k++) {
-            vp_shape_ref ref = p->shape == VP_SHAPE_MIXED ? p->shapes[k] : vp_particles_shape_of(p, 0);
+            vp_shape_ref ref =
+                p->shape == VP_SHAPE_MIXED ? p->shapes[k] : vp_particles_shape_of(p, 0);
             double b = obj_bytes_per_particle(ref, n, params);
             if (!(b > 0)) return 0;
             if (b > most) most = b;

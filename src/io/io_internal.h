@@ -50,8 +50,8 @@ vp_result vpio_check_particles(vp_context *ctx, const char *path, const vp_parti
  * orient that is not a finite unit quaternion (within 1e-3, as the readers
  * check). VP_ERR_INVALID_ARGUMENT with one line naming the particle;
  * format names the format in it. */
-vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_particles *p,
-                              int floats, const char *format);
+vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_particles *p, int floats,
+                              const char *format);
 
 /* Group names are what OpenVDB accepts (letters, digits, _ | :), 1 to
  * VP_GROUP_NAME_MAX - 1 characters. */
@@ -71,8 +71,8 @@ vp_particles *vpio_alloc(size_t n, int with_orient);
 /* Places particle k (file order) at index id, so that the set comes out in
  * id order: fails (VP_ERR_FORMAT) unless every id is in 0..n-1 and new.
  * seen: n bytes, zeroed by the caller. */
-vp_result vpio_place_id(vp_context *ctx, const char *path, const char *what, size_t k,
-                        long long id, size_t n, unsigned char *seen);
+vp_result vpio_place_id(vp_context *ctx, const char *path, const char *what, size_t k, long long id,
+                        size_t n, unsigned char *seen);
 
 vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *p,
                          const vp_export_params *params);

@@ -144,8 +144,8 @@ static vp_result unit_for(vp_context *ctx, const char *path, unit_mesh *m, vp_sh
     if (ref.shape == VP_SHAPE_MESH && !ref.mesh)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "%s: the particles are of a mesh shape and the mesh is not loaded", path);
-    const vp_mesh_shape *um = ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL)
-                                                              : ref.mesh;
+    const vp_mesh_shape *um =
+        ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL) : ref.mesh;
     if (ref.shape == VP_SHAPE_SUPERBALL && !um)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "%s: a superball's exponent must be in [0.5, 1000], not %g", path,
@@ -199,12 +199,14 @@ vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *
     FILE *f = o.f;
     if (p->shape == VP_SHAPE_MIXED) {
         char list[4096];
-        fprintf(f, "# vdbpack %s: %zu particles of %u shapes (%s), one object per group;\n"
-                   "# in each object, particles in id order, each its vertices then its faces\n",
+        fprintf(f,
+                "# vdbpack %s: %zu particles of %u shapes (%s), one object per group;\n"
+                "# in each object, particles in id order, each its vertices then its faces\n",
                 VP_VERSION_STRING, p->count, nunits, vp_particles_shape_list(p, list, sizeof list));
     } else {
-        fprintf(f, "# vdbpack %s: %zu %s%s, each %d vertices and %d faces, one object per group;\n"
-                   "# in each object, particles in id order, each its vertices then its faces\n",
+        fprintf(f,
+                "# vdbpack %s: %zu %s%s, each %d vertices and %d faces, one object per group;\n"
+                "# in each object, particles in id order, each its vertices then its faces\n",
                 VP_VERSION_STRING, p->count, vp_shape_name(p->shape), p->count == 1 ? "" : "s",
                 m.nv, m.nf);
     }
@@ -247,7 +249,8 @@ vp_result vpio_write_obj(vp_context *ctx, const char *path, const vp_particles *
             }
             for (int k = 0; k < m.nf; k++) {
                 fputc('f', f);
-                for (int e = 0; e < m.fsize[k]; e++) fprintf(f, " %llu", base + (unsigned long long)m.f[k][e]);
+                for (int e = 0; e < m.fsize[k]; e++)
+                    fprintf(f, " %llu", base + (unsigned long long)m.f[k][e]);
                 fputc('\n', f);
             }
             base += (unsigned long long)m.nv;
@@ -266,9 +269,10 @@ vp_result vp_mesh_shape_write_obj(vp_context *ctx, const vp_mesh_shape *s, const
     vpio_out o;
     vp_result r = vpio_open(ctx, path, &o);
     if (r != VP_OK) return r;
-    fprintf(o.f, "# vdbpack %s unit shape from %s: bounding-sphere radius 1 about the centroid\n"
-                 "# of its volume, which is at the origin. Instance it at each point scaled by\n"
-                 "# pscale and rotated by orient.\n",
+    fprintf(o.f,
+            "# vdbpack %s unit shape from %s: bounding-sphere radius 1 about the centroid\n"
+            "# of its volume, which is at the origin. Instance it at each point scaled by\n"
+            "# pscale and rotated by orient.\n",
             VP_VERSION_STRING, s->name);
     fprintf(o.f, "o %s\n", s->name);
     for (size_t v = 0; v < s->nverts; v++)
@@ -292,9 +296,10 @@ vp_result vp_particles_write_shapes_obj(vp_context *ctx, const vp_particles *p, 
         return r;
     }
     char list[4096];
-    fprintf(o.f, "# vdbpack %s unit shapes (%s): bounding-sphere radius 1, centroid at the\n"
-                 "# origin. Group shapeK is the shape of the points whose shape attribute is K;\n"
-                 "# instance it at each such point scaled by pscale and rotated by orient.\n",
+    fprintf(o.f,
+            "# vdbpack %s unit shapes (%s): bounding-sphere radius 1, centroid at the\n"
+            "# origin. Group shapeK is the shape of the points whose shape attribute is K;\n"
+            "# instance it at each such point scaled by pscale and rotated by orient.\n",
             VP_VERSION_STRING, vp_particles_shape_list(p, list, sizeof list));
     unsigned long long base = 1;
     for (unsigned k = 0; k < nunits; k++) {

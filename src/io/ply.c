@@ -68,12 +68,15 @@ vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *
     }
     fprintf(f, "element vertex %zu\n", p->count);
     fputs("property float x\nproperty float y\nproperty float z\nproperty float pscale\n"
-          "property int id\n", f);
+          "property int id\n",
+          f);
     if (p->has_orient)
         fputs("property float orient_x\nproperty float orient_y\nproperty float orient_z\n"
-              "property float orient_w\n", f);
+              "property float orient_w\n",
+              f);
     fputs(mixed ? "property uchar group\nproperty uchar shape\nend_header\n"
-                : "property uchar group\nend_header\n", f);
+                : "property uchar group\nend_header\n",
+          f);
     unsigned char rec[64];
     size_t stride = 12 + 4 + 4 + (p->has_orient ? 16 : 0) + 1 + (mixed ? 1 : 0);
     for (size_t i = 0; i < p->count && !ferror(f); i++) {
@@ -95,16 +98,23 @@ vp_result vpio_write_ply(vp_context *ctx, const char *path, const vp_particles *
 /* --- reading ---------------------------------------------------------------- */
 
 typedef enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64 } ptype;
-static const struct { const char *name; ptype t; int size; } k_types[] = {
-    {"char", T_I8, 1},    {"int8", T_I8, 1},    {"uchar", T_U8, 1},   {"uint8", T_U8, 1},
-    {"short", T_I16, 2},  {"int16", T_I16, 2},  {"ushort", T_U16, 2}, {"uint16", T_U16, 2},
-    {"int", T_I32, 4},    {"int32", T_I32, 4},  {"uint", T_U32, 4},   {"uint32", T_U32, 4},
-    {"float", T_F32, 4},  {"float32", T_F32, 4}, {"double", T_F64, 8}, {"float64", T_F64, 8},
+static const struct {
+    const char *name;
+    ptype t;
+    int size;
+} k_types[] = {
+    {"char", T_I8, 1},   {"int8", T_I8, 1},     {"uchar", T_U8, 1},   {"uint8", T_U8, 1},
+    {"short", T_I16, 2}, {"int16", T_I16, 2},   {"ushort", T_U16, 2}, {"uint16", T_U16, 2},
+    {"int", T_I32, 4},   {"int32", T_I32, 4},   {"uint", T_U32, 4},   {"uint32", T_U32, 4},
+    {"float", T_F32, 4}, {"float32", T_F32, 4}, {"double", T_F64, 8}, {"float64", T_F64, 8},
 };
 
 static double get_val(const unsigned char *b, ptype t) {
     uint64_t u = 0;
-    int n = t == T_F64 ? 8 : (t == T_I32 || t == T_U32 || t == T_F32) ? 4 : (t == T_I16 || t == T_U16) ? 2 : 1;
+    int n = t == T_F64                                 ? 8
+            : (t == T_I32 || t == T_U32 || t == T_F32) ? 4
+            : (t == T_I16 || t == T_U16)               ? 2
+                                                       : 1;
     for (int i = 0; i < n; i++) u |= (uint64_t)b[i] << (8 * i);
     switch (t) {
     case T_I8: return (double)(int8_t)u;
@@ -113,8 +123,17 @@ static double get_val(const unsigned char *b, ptype t) {
     case T_U16: return (double)(uint16_t)u;
     case T_I32: return (double)(int32_t)u;
     case T_U32: return (double)(uint32_t)u;
-    case T_F32: { uint32_t w = (uint32_t)u; float v; memcpy(&v, &w, 4); return v; }
-    case T_F64: { double v; memcpy(&v, &u, 8); return v; }
+    case T_F32: {
+        uint32_t w = (uint32_t)u;
+        float v;
+        memcpy(&v, &w, 4);
+        return v;
+    }
+    case T_F64: {
+        double v;
+        memcpy(&v, &u, 8);
+        return v;
+    }
     default: return 0;
     }
 }
@@ -127,12 +146,12 @@ static const char *const k_props[P_COUNT] = {"x",        "y",        "z",       
 typedef struct ply_header {
     size_t n;
     size_t stride;
-    int off[P_COUNT];   /* byte offset in a record, -1 if absent */
+    int off[P_COUNT]; /* byte offset in a record, -1 if absent */
     ptype type[P_COUNT];
     int shape_set;
     vp_shape shape;
     double shape_param;
-    int shapes_set;                    /* "comment shapes" of a mixed set */
+    int shapes_set; /* "comment shapes" of a mixed set */
     unsigned nshapes;
     vp_shape_ref shapes[VP_MAX_SHAPES];
     char shape_names[VP_MAX_SHAPES][VP_SHAPE_NAME_MAX];
@@ -170,13 +189,16 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
     char seen_names[64][64];
     int nseen = 0;
     for (;;) {
-        if (total > 65536) return BAD("%s: not a PLY file vdbpack reads: header longer than 64 KiB", path);
+        if (total > 65536)
+            return BAD("%s: not a PLY file vdbpack reads: header longer than 64 KiB", path);
         if (read_line(f, line, sizeof line, &total) != 0)
             return BAD("%s: not a PLY file vdbpack reads: %s", path,
-                       nline == 0 ? "empty or not text" : "the header has no end_header line (or a line over 8 KiB)");
+                       nline == 0 ? "empty or not text"
+                                  : "the header has no end_header line (or a line over 8 KiB)");
         nline++;
         if (nline == 1) {
-            if (strcmp(line, "ply") != 0) return BAD("%s: not a PLY file (it does not start with 'ply')", path);
+            if (strcmp(line, "ply") != 0)
+                return BAD("%s: not a PLY file (it does not start with 'ply')", path);
             continue;
         }
         char w0[32] = "", w1[64] = "", w2[64] = "", w3[64] = "";
@@ -185,12 +207,12 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
         if (!strcmp(w0, "end_header")) break;
         if (!strcmp(w0, "format")) {
             if (nw != 3 || strcmp(w1, "binary_little_endian") != 0 || strcmp(w2, "1.0") != 0)
-                return BAD("%s: PLY format '%s %s' is not read (vdbpack reads binary_little_endian 1.0)",
-                           path, w1, w2);
+                return BAD(
+                    "%s: PLY format '%s %s' is not read (vdbpack reads binary_little_endian 1.0)",
+                    path, w1, w2);
             have_format = 1;
         } else if (!strcmp(w0, "comment") || !strcmp(w0, "obj_info")) {
-            if (!strcmp(w0, "comment") && !strcmp(w1, "shape") && nw >= 3 &&
-                !strcmp(w2, "mixed")) {
+            if (!strcmp(w0, "comment") && !strcmp(w1, "shape") && nw >= 3 && !strcmp(w2, "mixed")) {
                 h->shape = VP_SHAPE_MIXED;
                 h->shape_set = 1;
             } else if (!strcmp(w0, "comment") && !strcmp(w1, "shapes") && nw >= 3) {
@@ -207,9 +229,12 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
             } else if (!strcmp(w0, "comment") && !strcmp(w1, "group") && nw >= 3) {
                 char *end;
                 long g = strtol(w2, &end, 10);
-                if (*end || g < 0 || g >= VP_MAX_GROUPS || nw != 4 || !vpio_valid_group_name(w3, strlen(w3)))
-                    return BAD("%s: malformed group comment '%s' (comment group K NAME, K < %d, NAME of "
-                               "letters, digits, _ | :)", path, line, VP_MAX_GROUPS);
+                if (*end || g < 0 || g >= VP_MAX_GROUPS || nw != 4 ||
+                    !vpio_valid_group_name(w3, strlen(w3)))
+                    return BAD(
+                        "%s: malformed group comment '%s' (comment group K NAME, K < %d, NAME of "
+                        "letters, digits, _ | :)",
+                        path, line, VP_MAX_GROUPS);
                 if (h->named[g]) return BAD("%s: group %ld is named twice", path, g);
                 h->named[g] = 1;
                 snprintf(h->names[g], VP_GROUP_NAME_MAX, "%s", w3);
@@ -227,14 +252,16 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
             have_vertex = in_vertex = 1;
         } else if (!strcmp(w0, "property")) {
             if (!in_vertex) return BAD("%s: PLY property outside the vertex element", path);
-            if (!strcmp(w1, "list")) return BAD("%s: PLY list property in the vertex element", path);
+            if (!strcmp(w1, "list"))
+                return BAD("%s: PLY list property in the vertex element", path);
             if (nw != 3) return BAD("%s: malformed PLY line '%s'", path, line);
             int t = -1;
             for (size_t i = 0; i < sizeof k_types / sizeof k_types[0]; i++)
                 if (!strcmp(w1, k_types[i].name)) t = (int)i;
             if (t < 0) return BAD("%s: unknown PLY property type '%s'", path, w1);
             for (int i = 0; i < nseen; i++)
-                if (!strcmp(seen_names[i], w2)) return BAD("%s: PLY property '%s' given twice", path, w2);
+                if (!strcmp(seen_names[i], w2))
+                    return BAD("%s: PLY property '%s' given twice", path, w2);
             if (nseen >= 64) return BAD("%s: more than 64 PLY vertex properties", path);
             snprintf(seen_names[nseen++], 64, "%s", w2);
             for (int i = 0; i < P_COUNT; i++)
@@ -258,7 +285,8 @@ static vp_result parse_header(vp_context *ctx, const char *path, FILE *f, ply_he
         return BAD("%s: PLY property 'id' must be an integer type", path);
     int nq = 0;
     for (int i = P_QX; i <= P_QW; i++) nq += h->off[i] >= 0;
-    if (nq != 0 && nq != 4) return BAD("%s: PLY vertex has %d of the 4 orient_* properties", path, nq);
+    if (nq != 0 && nq != 4)
+        return BAD("%s: PLY vertex has %d of the 4 orient_* properties", path, nq);
     for (int i = P_QX; i <= P_QW && nq; i++)
         if (h->type[i] != T_F32 && h->type[i] != T_F64)
             return BAD("%s: PLY property '%s' must be float or double", path, k_props[i]);
@@ -294,8 +322,9 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
     if ((unsigned long long)st.st_size != want) {
         fclose(f);
         return BAD("%s: %s: the header promises %zu vertices of %zu bytes (%llu bytes in all), the "
-                   "file has %lld", path, (unsigned long long)st.st_size < want ? "truncated" : "trailing data",
-                   h.n, h.stride, want, (long long)st.st_size);
+                   "file has %lld",
+                   path, (unsigned long long)st.st_size < want ? "truncated" : "trailing data", h.n,
+                   h.stride, want, (long long)st.st_size);
     }
     int with_q = h.off[P_QX] >= 0;
     vp_particles *p = vpio_alloc(h.n, with_q);
@@ -313,7 +342,8 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
         memcpy(p->shape_names, h.shape_names, sizeof h.shape_names);
         p->shape_index = malloc(h.n ? h.n : 1);
         if (!p->shape_index) {
-            r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for %zu particles", path, h.n);
+            r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "%s: out of memory for %zu particles", path,
+                        h.n);
             goto done;
         }
     }
@@ -330,7 +360,8 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
             const unsigned char *b = chunk + j * h.stride;
             double x[3], q[4], ps = get_val(b + h.off[P_PSCALE], h.type[P_PSCALE]);
             for (int c = 0; c < 3; c++) x[c] = get_val(b + h.off[P_X + c], h.type[P_X + c]);
-            for (int c = 0; c < 4 && with_q; c++) q[c] = get_val(b + h.off[P_QX + c], h.type[P_QX + c]);
+            for (int c = 0; c < 4 && with_q; c++)
+                q[c] = get_val(b + h.off[P_QX + c], h.type[P_QX + c]);
             if ((r = vpio_check_values(ctx, path, "vertex", k, x, ps, with_q ? q : NULL)) != VP_OK)
                 goto done;
             if (!(ps < 3.4e38)) {
@@ -345,7 +376,8 @@ vp_result vpio_read_ply(vp_context *ctx, const char *path, vp_particles **out, i
             if (h.off[P_GROUP] >= 0) {
                 double g = get_val(b + h.off[P_GROUP], h.type[P_GROUP]);
                 if (g < 0 || g >= VP_MAX_GROUPS) {
-                    r = BAD("%s: vertex %zu: group %g is not in 0..%d", path, k, g, VP_MAX_GROUPS - 1);
+                    r = BAD("%s: vertex %zu: group %g is not in 0..%d", path, k, g,
+                            VP_MAX_GROUPS - 1);
                     goto done;
                 }
                 p->groups[id] = (uint16_t)g;

@@ -73,27 +73,32 @@ vp_result vpio_check_particles(vp_context *ctx, const char *path, const vp_parti
     if (p->groups)
         for (size_t i = 0; i < p->count; i++)
             if (p->groups[i] >= p->group_count)
-                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: particle %zu is in group %u of %u",
-                               path, i, (unsigned)p->groups[i], p->group_count);
+                return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                               "%s: particle %zu is in group %u of %u", path, i,
+                               (unsigned)p->groups[i], p->group_count);
     if (p->count > 2147483647u)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "%s: %zu particles (ids are int32: at most "
-                       "2147483647)", path, p->count);
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "%s: %zu particles (ids are int32: at most "
+                       "2147483647)",
+                       path, p->count);
     return VP_OK;
 }
 
-vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_particles *p,
-                              int floats, const char *format) {
+vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_particles *p, int floats,
+                              const char *format) {
     for (size_t i = 0; i < p->count; i++) {
         const double *x = p->positions + 3 * i;
         double r = (double)vpio_radius(p, i);
         if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "%s: particle %zu: its position (%g %g %g) is not finite; nothing "
-                           "written", path, i, x[0], x[1], x[2]);
+                           "written",
+                           path, i, x[0], x[1], x[2]);
         if (!isfinite(r) || !(r > 0))
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "%s: particle %zu: its radius %g is not a positive number; nothing "
-                           "written", path, i, r);
+                           "written",
+                           path, i, r);
         for (int k = 0; floats && k < 3; k++)
             if (!(fabs(x[k]) + (floats == 2 ? r : 0.0) <= FLT_MAX))
                 return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
@@ -107,8 +112,8 @@ vp_result vpio_check_writable(vp_context *ctx, const char *path, const vp_partic
             if (!(fabs(sqrt(n) - 1) <= 1e-3))
                 return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                                "%s: particle %zu: its orient (%g %g %g %g) is not a finite unit "
-                               "quaternion; nothing written", path, i, (double)q[0],
-                               (double)q[1], (double)q[2], (double)q[3]);
+                               "quaternion; nothing written",
+                               path, i, (double)q[0], (double)q[1], (double)q[2], (double)q[3]);
         }
     }
     return VP_OK;
@@ -137,12 +142,15 @@ vp_result vpio_check_values(vp_context *ctx, const char *path, const char *what,
         double n = 0;
         for (int c = 0; c < 4; c++) {
             if (!isfinite(q[c]))
-                return vp_fail(ctx, VP_ERR_FORMAT, "%s: %s %zu: orient is not finite", path, what, k);
+                return vp_fail(ctx, VP_ERR_FORMAT, "%s: %s %zu: orient is not finite", path, what,
+                               k);
             n += q[c] * q[c];
         }
         if (!(fabs(sqrt(n) - 1) <= 1e-3))
-            return vp_fail(ctx, VP_ERR_FORMAT, "%s: %s %zu: orient (%g %g %g %g) is not a unit "
-                           "quaternion", path, what, k, q[0], q[1], q[2], q[3]);
+            return vp_fail(ctx, VP_ERR_FORMAT,
+                           "%s: %s %zu: orient (%g %g %g %g) is not a unit "
+                           "quaternion",
+                           path, what, k, q[0], q[1], q[2], q[3]);
     }
     return VP_OK;
 }
@@ -168,11 +176,13 @@ vp_particles *vpio_alloc(size_t n, int with_orient) {
     return p;
 }
 
-vp_result vpio_place_id(vp_context *ctx, const char *path, const char *what, size_t k,
-                        long long id, size_t n, unsigned char *seen) {
+vp_result vpio_place_id(vp_context *ctx, const char *path, const char *what, size_t k, long long id,
+                        size_t n, unsigned char *seen) {
     if (id < 0 || (unsigned long long)id >= n)
-        return vp_fail(ctx, VP_ERR_FORMAT, "%s: %s %zu: id %lld is not in 0..%zu (ids must be "
-                       "0..N-1 once each)", path, what, k, id, n ? n - 1 : 0);
+        return vp_fail(ctx, VP_ERR_FORMAT,
+                       "%s: %s %zu: id %lld is not in 0..%zu (ids must be "
+                       "0..N-1 once each)",
+                       path, what, k, id, n ? n - 1 : 0);
     if (seen[id])
         return vp_fail(ctx, VP_ERR_FORMAT, "%s: %s %zu: id %lld appears twice", path, what, k, id);
     seen[id] = 1;

@@ -68,18 +68,21 @@ static int import_child(int fd, void *user)
     /* Assimp reports a failed allocation as its message: under the bound
      * that is the bound's doing, and a user can raise it */
     size_t el = strlen(err);
-    if (r != VP_OK && (strstr(err, "bad_alloc") ||
-                       (el >= 13 && !strcmp(err + el - 13, "out of memory")))) {
+    if (r != VP_OK &&
+        (strstr(err, "bad_alloc") || (el >= 13 && !strcmp(err + el - 13, "out of memory")))) {
         r = VP_ERR_OUT_OF_MEMORY;
         if (g && g->max_bytes) {
             char b[32];
             bound_text(g, b, sizeof b);
-            snprintf(err, sizeof err, "%s: reading the mesh needs more than the memory limit "
+            snprintf(err, sizeof err,
+                     "%s: reading the mesh needs more than the memory limit "
                      "of %s (--max-memory): the file is malformed, or too large for the limit",
                      name, b);
         } else {
-            snprintf(err, sizeof err, "%s: the mesh reader (Assimp) ran out of memory; the "
-                     "file is probably malformed", name);
+            snprintf(err, sizeof err,
+                     "%s: the mesh reader (Assimp) ran out of memory; the "
+                     "file is probably malformed",
+                     name);
         }
     }
     return vp_mesh_wire_write(fd, r, err, m) ? 3 : 0;
@@ -108,12 +111,10 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
     vp_result res = VP_OK;
     switch (vp_subproc_run(timeout, guard, import_child, import_answer, &call, &status)) {
     case VP_SUBPROC_NO_PIPE:
-        snprintf(err, errlen, "%s: cannot start the mesh reader (pipe: %s)", name,
-                 strerror(errno));
+        snprintf(err, errlen, "%s: cannot start the mesh reader (pipe: %s)", name, strerror(errno));
         return VP_ERR_IO;
     case VP_SUBPROC_NO_FORK:
-        snprintf(err, errlen, "%s: cannot start the mesh reader (fork: %s)", name,
-                 strerror(errno));
+        snprintf(err, errlen, "%s: cannot start the mesh reader (fork: %s)", name, strerror(errno));
         return VP_ERR_OUT_OF_MEMORY;
     case VP_SUBPROC_CANCELLED: /* the caller cancelled (SIGINT in the command-line tool) */
         snprintf(err, errlen, "cancelled");
@@ -133,25 +134,26 @@ vp_result vp_mesh_import_isolated(vp_mesh_import_fn fn, const void *arg, const c
              * that the reader did not check */
             char b[32];
             bound_text(guard, b, sizeof b);
-            snprintf(err, errlen, "%s: the mesh reader (Assimp) failed (%s %d) under the "
-                                  "memory limit of %s (--max-memory): the file is malformed, "
-                                  "or too large for the limit",
+            snprintf(err, errlen,
+                     "%s: the mesh reader (Assimp) failed (%s %d) under the "
+                     "memory limit of %s (--max-memory): the file is malformed, "
+                     "or too large for the limit",
                      name, WIFSIGNALED(status) ? "signal" : "exit status",
                      WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status), b);
         } else if (WIFSIGNALED(status)) {
-            snprintf(err, errlen, "%s: the mesh reader (Assimp) crashed on this file "
-                                  "(signal %d); the file is probably malformed",
+            snprintf(err, errlen,
+                     "%s: the mesh reader (Assimp) crashed on this file "
+                     "(signal %d); the file is probably malformed",
                      name, WTERMSIG(status));
         } else {
-            snprintf(err, errlen, "%s: the mesh reader (Assimp) failed on this file "
-                                  "(exit status %d); the file is probably malformed",
+            snprintf(err, errlen,
+                     "%s: the mesh reader (Assimp) failed on this file "
+                     "(exit status %d); the file is probably malformed",
                      name, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
         }
         res = VP_ERR_FORMAT;
         break;
-    case VP_SUBPROC_ANSWERED:
-        res = call.res;
-        break;
+    case VP_SUBPROC_ANSWERED: res = call.res; break;
     }
     vp_mesh *m = call.mesh;
     if (res != VP_OK) {

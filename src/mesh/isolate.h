@@ -8,8 +8,7 @@
 #include "os/subproc.h"
 
 /* Imports in the current process; arg is the importer's own argument. */
-typedef vp_result (*vp_mesh_import_fn)(const void *arg, vp_mesh **out, char *err,
-                                       size_t errlen);
+typedef vp_result (*vp_mesh_import_fn)(const void *arg, vp_mesh **out, char *err, size_t errlen);
 
 /* Runs fn(arg) in a forked child (vp_subproc_fork: its own process group,
  * dies with its parent, default signal actions, guard's memory bound) and

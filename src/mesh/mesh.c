@@ -42,16 +42,13 @@
 #include <unistd.h>
 
 
-static void set_err(char *err, size_t errlen, const char *fmt, const char *name,
-                    const char *detail)
+static void set_err(char *err, size_t errlen, const char *fmt, const char *name, const char *detail)
 {
-    if (!err || errlen == 0)
-        return;
+    if (!err || errlen == 0) return;
     vp_os_format(err, errlen, fmt, name, detail);
     /* One line: replace any newline in Assimp's message. */
     for (char *c = err; *c; ++c)
-        if (*c == '\n' || *c == '\r')
-            *c = ' ';
+        if (*c == '\n' || *c == '\r') *c = ' ';
 }
 
 /* ------------------------------------------------------------------ */
@@ -79,8 +76,7 @@ static void mat_mul(const double a[12], const double b[12], double out[12])
     for (int r = 0; r < 3; ++r) {
         for (int c = 0; c < 4; ++c) {
             double s = a[4 * r + 0] * b[c] + a[4 * r + 1] * b[4 + c] + a[4 * r + 2] * b[8 + c];
-            if (c == 3)
-                s += a[4 * r + 3];
+            if (c == 3) s += a[4 * r + 3];
             out[4 * r + c] = s;
         }
     }
@@ -89,18 +85,16 @@ static void mat_mul(const double a[12], const double b[12], double out[12])
 static void walk_nodes(const struct aiScene *sc, const struct aiNode *nd, const double parent[12],
                        int depth, inst_list *L)
 {
-    if (!nd || depth > VP_MESH_MAX_DEPTH || L->overflow)
-        return;
+    if (!nd || depth > VP_MESH_MAX_DEPTH || L->overflow) return;
     const struct aiMatrix4x4 *t = &nd->mTransformation;
-    double local[12] = {t->a1, t->a2, t->a3, t->a4, t->b1, t->b2, t->b3, t->b4,
-                        t->c1, t->c2, t->c3, t->c4};
+    double local[12] = {t->a1, t->a2, t->a3, t->a4, t->b1, t->b2,
+                        t->b3, t->b4, t->c1, t->c2, t->c3, t->c4};
     double world[12];
     mat_mul(parent, local, world);
     if (nd->mMeshes) {
         for (unsigned i = 0; i < nd->mNumMeshes; ++i) {
             unsigned mi = nd->mMeshes[i];
-            if (mi >= sc->mNumMeshes || !sc->mMeshes[mi])
-                continue;
+            if (mi >= sc->mNumMeshes || !sc->mMeshes[mi]) continue;
             if (L->n == L->cap) {
                 size_t nc = L->cap ? 2 * L->cap : 16;
                 if (nc > VP_MESH_MAX_INSTANCES) {
@@ -132,11 +126,9 @@ static void walk_nodes(const struct aiScene *sc, const struct aiNode *nd, const 
 /* Faces this mesh contributes (>= 3 corners, all indices valid). */
 static int face_usable(const struct aiMesh *am, const struct aiFace *fc)
 {
-    if (fc->mNumIndices < 3 || !fc->mIndices)
-        return 0;
+    if (fc->mNumIndices < 3 || !fc->mIndices) return 0;
     for (unsigned k = 0; k < fc->mNumIndices; ++k)
-        if (fc->mIndices[k] >= am->mNumVertices)
-            return 0;
+        if (fc->mIndices[k] >= am->mNumVertices) return 0;
     return 1;
 }
 
@@ -157,12 +149,11 @@ static double cross2(const double *a, const double *b, const double *c)
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
 
-static void triangulate_polygon(const double *pos, const unsigned *idx, unsigned n,
-                                uint32_t *out, double *xy, unsigned *ring)
+static void triangulate_polygon(const double *pos, const unsigned *idx, unsigned n, uint32_t *out,
+                                double *xy, unsigned *ring)
 {
     size_t w = 0;
-    if (n > VP_MESH_EARCLIP_MAX)
-        goto fan_all;
+    if (n > VP_MESH_EARCLIP_MAX) goto fan_all;
     double nn[3] = {0, 0, 0};
     for (unsigned k = 0; k < n; ++k) {
         const double *a = pos + 3 * (size_t)idx[k], *b = pos + 3 * (size_t)idx[(k + 1) % n];
@@ -173,10 +164,13 @@ static void triangulate_polygon(const double *pos, const unsigned *idx, unsigned
     int ax = 0;
     if (fabs(nn[1]) > fabs(nn[ax])) ax = 1;
     if (fabs(nn[2]) > fabs(nn[ax])) ax = 2;
-    if (!(fabs(nn[ax]) > 0))
-        goto fan_all;
+    if (!(fabs(nn[ax]) > 0)) goto fan_all;
     int u = (ax + 1) % 3, v = (ax + 2) % 3;
-    if (nn[ax] < 0) { int s = u; u = v; v = s; } /* keep the polygon counter-clockwise */
+    if (nn[ax] < 0) {
+        int s = u;
+        u = v;
+        v = s;
+    } /* keep the polygon counter-clockwise */
     for (unsigned k = 0; k < n; ++k) {
         xy[2 * k] = pos[3 * (size_t)idx[k] + u];
         xy[2 * k + 1] = pos[3 * (size_t)idx[k] + v];
@@ -190,22 +184,18 @@ static void triangulate_polygon(const double *pos, const unsigned *idx, unsigned
             unsigned i = (start + t) % m;
             unsigned ip = ring[(i + m - 1) % m], ic = ring[i], in = ring[(i + 1) % m];
             const double *a = xy + 2 * ip, *b = xy + 2 * ic, *c = xy + 2 * in;
-            if (!(cross2(a, b, c) > 0))
-                continue;
+            if (!(cross2(a, b, c) > 0)) continue;
             int ear = 1;
             for (unsigned j = 0; j < m && ear; ++j) {
                 unsigned q = ring[j];
-                if (q == ip || q == ic || q == in)
-                    continue;
+                if (q == ip || q == ic || q == in) continue;
                 const double *p = xy + 2 * q;
                 if ((p[0] == a[0] && p[1] == a[1]) || (p[0] == b[0] && p[1] == b[1]) ||
                     (p[0] == c[0] && p[1] == c[1]))
                     continue;
-                if (cross2(a, b, p) >= 0 && cross2(b, c, p) >= 0 && cross2(c, a, p) >= 0)
-                    ear = 0;
+                if (cross2(a, b, p) >= 0 && cross2(b, c, p) >= 0 && cross2(c, a, p) >= 0) ear = 0;
             }
-            if (!ear)
-                continue;
+            if (!ear) continue;
             out[w++] = ip;
             out[w++] = ic;
             out[w++] = in;
@@ -215,8 +205,7 @@ static void triangulate_polygon(const double *pos, const unsigned *idx, unsigned
             clipped = 1;
             break;
         }
-        if (!clipped)
-            break;
+        if (!clipped) break;
     }
     /* The rest (a triangle, or what could not be clipped) as a fan. */
     for (unsigned k = 1; k + 1 < m; ++k) {
@@ -243,12 +232,14 @@ static void collect_instances(const struct aiScene *sc, inst_list *L)
         return;
     }
     for (unsigned i = 0; i < sc->mNumMeshes && !L->overflow; ++i) {
-        if (!sc->mMeshes[i])
-            continue;
+        if (!sc->mMeshes[i]) continue;
         if (L->n == L->cap) {
             size_t nc = L->cap ? 2 * L->cap : 16;
             instance *nv = realloc(L->v, nc * sizeof *nv);
-            if (!nv) { L->overflow = 1; break; }
+            if (!nv) {
+                L->overflow = 1;
+                break;
+            }
             L->v = nv;
             L->cap = nc;
         }
@@ -267,11 +258,9 @@ typedef struct scene_counts {
 
 static int instance_has_faces(const struct aiMesh *am)
 {
-    if (!mesh_usable(am))
-        return 0;
+    if (!mesh_usable(am)) return 0;
     for (unsigned f = 0; f < am->mNumFaces; ++f)
-        if (face_usable(am, &am->mFaces[f]))
-            return 1;
+        if (face_usable(am, &am->mFaces[f])) return 1;
     return 0;
 }
 
@@ -280,29 +269,25 @@ static scene_counts count_scene(const inst_list *L)
     scene_counts n = {0, 0, 0, 0};
     for (size_t i = 0; i < L->n; ++i) {
         const struct aiMesh *am = L->v[i].mesh;
-        if (!mesh_usable(am))
-            continue;
+        if (!mesh_usable(am)) continue;
         size_t t = 0;
         for (unsigned f = 0; f < am->mNumFaces; ++f)
             if (face_usable(am, &am->mFaces[f])) {
                 t += am->mFaces[f].mNumIndices - 2;
-                if (am->mFaces[f].mNumIndices > n.maxpoly)
-                    n.maxpoly = am->mFaces[f].mNumIndices;
+                if (am->mFaces[f].mNumIndices > n.maxpoly) n.maxpoly = am->mFaces[f].mNumIndices;
             }
-        if (t == 0)
-            continue;
+        if (t == 0) continue;
         n.nraw += am->mNumVertices;
         n.ntri_max += t;
-        if (am->mNumVertices > n.maxverts)
-            n.maxverts = am->mNumVertices;
+        if (am->mNumVertices > n.maxverts) n.maxverts = am->mNumVertices;
     }
     return n;
 }
 
 /* Scratch of weld_instances, sized by count_scene. */
 typedef struct scene_scratch {
-    double *raw;    /* world positions of the current instance */
-    uint32_t *wid;  /* raw vertex -> welded id */
+    double *raw;     /* world positions of the current instance */
+    uint32_t *wid;   /* raw vertex -> welded id */
     uint32_t *ptris; /* polygon triangulation */
     double *pxy;
     unsigned *pring;
@@ -312,16 +297,15 @@ typedef struct scene_scratch {
  * its faces into tris (welded ids); *ntri and *zero count the triangles
  * kept and those collapsed by welding. VP_OK or VP_ERR_FORMAT (a
  * non-finite coordinate, named in err). */
-static vp_result weld_instances(const inst_list *L, const char *name, vp_weld *w,
-                                scene_scratch *x, uint32_t *tris, size_t *ntri, size_t *zero,
-                                char *err, size_t errlen)
+static vp_result weld_instances(const inst_list *L, const char *name, vp_weld *w, scene_scratch *x,
+                                uint32_t *tris, size_t *ntri, size_t *zero, char *err,
+                                size_t errlen)
 {
     size_t base = 0;
     for (size_t i = 0; i < L->n; ++i) {
         const struct aiMesh *am = L->v[i].mesh;
         const double *M = L->v[i].m;
-        if (!instance_has_faces(am))
-            continue;
+        if (!instance_has_faces(am)) continue;
         for (unsigned v = 0; v < am->mNumVertices; ++v) {
             double q[3] = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z};
             double p[3];
@@ -332,13 +316,13 @@ static vp_result weld_instances(const inst_list *L, const char *name, vp_weld *w
             for (int pass = 0; pass < 2; ++pass) {
                 const double *c = pass ? p : q;
                 for (int k = 0; k < 3; ++k) {
-                    if (isfinite(c[k]))
-                        continue;
+                    if (isfinite(c[k])) continue;
                     if (err && errlen)
-                        snprintf(err, errlen,
-                                 "%s: vertex %zu has a non-finite coordinate (%s) at (%g, %g, %g)%s",
-                                 name, base + v, vp_mesh_nonfinite_name(c[k]), c[0], c[1], c[2],
-                                 pass ? " after its node's transform" : "");
+                        snprintf(
+                            err, errlen,
+                            "%s: vertex %zu has a non-finite coordinate (%s) at (%g, %g, %g)%s",
+                            name, base + v, vp_mesh_nonfinite_name(c[k]), c[0], c[1], c[2],
+                            pass ? " after its node's transform" : "");
                     return VP_ERR_FORMAT;
                 }
             }
@@ -347,20 +331,22 @@ static vp_result weld_instances(const inst_list *L, const char *name, vp_weld *w
         }
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
             const struct aiFace *fc = &am->mFaces[f];
-            if (!face_usable(am, fc))
-                continue;
+            if (!face_usable(am, fc)) continue;
             unsigned n = fc->mNumIndices;
             if (n == 3) {
-                x->ptris[0] = 0; x->ptris[1] = 1; x->ptris[2] = 2;
+                x->ptris[0] = 0;
+                x->ptris[1] = 1;
+                x->ptris[2] = 2;
             } else {
                 triangulate_polygon(x->raw, fc->mIndices, n, x->ptris, x->pxy, x->pring);
             }
             for (unsigned t = 0; t < n - 2; ++t) {
                 uint32_t c[3];
-                for (int j = 0; j < 3; ++j)
-                    c[j] = x->wid[fc->mIndices[x->ptris[3 * t + j]]];
+                for (int j = 0; j < 3; ++j) c[j] = x->wid[fc->mIndices[x->ptris[3 * t + j]]];
                 if (L->v[i].flip) {
-                    uint32_t s = c[1]; c[1] = c[2]; c[2] = s;
+                    uint32_t s = c[1];
+                    c[1] = c[2];
+                    c[2] = s;
                 }
                 if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
                     ++*zero;
@@ -451,15 +437,14 @@ static vp_result finish_mesh(vp_weld *w, uint32_t **tris, size_t ntri, size_t nr
     }
     vp_result res = vp_mesh_finish(w, *tris, ntri, nraw, zero, out);
     *tris = NULL; /* owned by the mesh, or freed */
-    if (res != VP_OK)
-        set_err(err, errlen, "%s: %s", name, "out of memory");
+    if (res != VP_OK) set_err(err, errlen, "%s: %s", name, "out of memory");
     return res;
 }
 
 /* The scene as one welded mesh: its instances and counts, scratch,
  * welding and triangulation, then the shared finish. */
-static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out,
-                            char *err, size_t errlen)
+static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh **out, char *err,
+                            size_t errlen)
 {
     inst_list L = {0};
     scene_counts n = {0, 0, 0, 0};
@@ -470,12 +455,9 @@ static vp_result build_mesh(const struct aiScene *sc, const char *name, vp_mesh 
     *out = NULL;
 
     vp_result res = gather_scene(sc, name, &L, &n, err, errlen);
-    if (res == VP_OK)
-        res = alloc_scratch(&n, name, &x, &tris, &w, err, errlen);
-    if (res == VP_OK)
-        res = weld_instances(&L, name, &w, &x, tris, &ntri, &zero, err, errlen);
-    if (res == VP_OK)
-        res = finish_mesh(&w, &tris, ntri, n.nraw, zero, name, out, err, errlen);
+    if (res == VP_OK) res = alloc_scratch(&n, name, &x, &tris, &w, err, errlen);
+    if (res == VP_OK) res = weld_instances(&L, name, &w, &x, tris, &ntri, &zero, err, errlen);
+    if (res == VP_OK) res = finish_mesh(&w, &tris, ntri, n.nraw, zero, name, out, err, errlen);
 
     free(L.v);
     free_scratch(&x);
@@ -494,14 +476,11 @@ static vp_result import_failed(const char *name, char *err, size_t errlen);
 static int starts_with_ci(const unsigned char *d, size_t n, const char *word)
 {
     size_t k = strlen(word);
-    if (n < k)
-        return 0;
+    if (n < k) return 0;
     for (size_t i = 0; i < k; ++i) {
         unsigned char c = d[i];
-        if (c >= 'A' && c <= 'Z')
-            c = (unsigned char)(c - 'A' + 'a');
-        if (c != (unsigned char)word[i])
-            return 0;
+        if (c >= 'A' && c <= 'Z') c = (unsigned char)(c - 'A' + 'a');
+        if (c != (unsigned char)word[i]) return 0;
     }
     return 1;
 }
@@ -570,14 +549,13 @@ static vp_result ply_claims(const unsigned char *d, size_t hend, size_t total, c
     need += count * per;
     if (ascii == 1 && need > 0) need -= 1; /* the last value needs no separator */
     size_t have = total > hend ? total - hend : 0;
-    if (need <= (double)have)
-        return VP_OK;
+    if (need <= (double)have) return VP_OK;
     if (err && errlen)
         vp_os_format(err, errlen,
                      "%s: not a mesh file Assimp can read (its PLY header declares %.0f '%s' "
                      "elements, at least %.3g bytes of data in all, but %zu bytes follow the "
-                     "header: the file is truncated or corrupt)", name, big_count, big, need,
-                     have);
+                     "header: the file is truncated or corrupt)",
+                     name, big_count, big, need, have);
     return VP_ERR_FORMAT;
 }
 
@@ -587,8 +565,7 @@ static vp_result precheck(const unsigned char *d, size_t n, size_t total, const 
                           char *err, size_t errlen)
 {
     size_t i = 0;
-    while (i < n && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n'))
-        ++i;
+    while (i < n && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n')) ++i;
     if (starts_with_ci(d + i, n - i, "ply")) {
         static const char tag[] = "end_header";
         size_t k = sizeof tag - 1;
@@ -605,8 +582,8 @@ static vp_result precheck(const unsigned char *d, size_t n, size_t total, const 
     return VP_OK;
 }
 
-static vp_result finish_import(const struct aiScene *sc, const char *name, vp_mesh **out,
-                               char *err, size_t errlen)
+static vp_result finish_import(const struct aiScene *sc, const char *name, vp_mesh **out, char *err,
+                               size_t errlen)
 {
     vp_result r = build_mesh(sc, name, out, err, errlen);
     aiReleaseImport(sc);
@@ -635,8 +612,7 @@ static int has_suffix_ci(const char *s, const char *suffix)
 static int obj_nonfinite_vertex(const char *path, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
-    if (!f)
-        return 0;
+    if (!f) return 0;
     char *line = NULL;
     size_t cap = 0, lineno = 0, vert = 0;
     ssize_t len;
@@ -644,17 +620,14 @@ static int obj_nonfinite_vertex(const char *path, char *err, size_t errlen)
     while (!found && (len = getline(&line, &cap, f)) >= 0) {
         ++lineno;
         const char *c = line;
-        while (*c == ' ' || *c == '\t')
-            ++c;
-        if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t'))
-            continue;
+        while (*c == ' ' || *c == '\t') ++c;
+        if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t')) continue;
         ++vert;
         c += 1;
         for (int k = 0; k < 3 && !found; ++k) {
             char *end;
             double x = strtod(c, &end);
-            if (end == c)
-                break;
+            if (end == c) break;
             if (!isfinite((float)x)) {
                 while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r'))
                     line[--len] = '\0';
@@ -677,8 +650,7 @@ static vp_result import_path(const void *arg, vp_mesh **out, char *err, size_t e
 {
     const char *path = arg;
     const struct aiScene *sc = aiImportFile(path, 0);
-    if (!sc)
-        return import_failed(path, err, errlen);
+    if (!sc) return import_failed(path, err, errlen);
     vp_result r = finish_import(sc, path, out, err, errlen);
     if (r == VP_ERR_FORMAT && err && errlen && strstr(err, "non-finite coordinate") &&
         has_suffix_ci(path, ".obj"))
@@ -697,8 +669,7 @@ static vp_result import_memory(const void *arg, vp_mesh **out, char *err, size_t
     const memory_source *src = arg;
     const struct aiScene *sc =
         aiImportFileFromMemory((const char *)src->data, (unsigned)src->size, 0, src->hint);
-    if (!sc)
-        return import_failed("<memory>", err, errlen);
+    if (!sc) return import_failed("<memory>", err, errlen);
     return finish_import(sc, "<memory>", out, err, errlen);
 }
 
@@ -710,8 +681,7 @@ vp_result vp_mesh_load(const char *path, vp_mesh **out, char *err, size_t errlen
 vp_result vp_mesh_load_guarded(const char *path, const vp_subproc_guard *guard, vp_mesh **out,
                                char *err, size_t errlen)
 {
-    if (err && errlen)
-        err[0] = '\0';
+    if (err && errlen) err[0] = '\0';
     if (!out) {
         set_err(err, errlen, "%s: %s", path ? path : "(null)", "no output pointer");
         return VP_ERR_INVALID_ARGUMENT;
@@ -756,26 +726,23 @@ vp_result vp_mesh_load_guarded(const char *path, const vp_subproc_guard *guard, 
     fclose(f);
     if (got == 0) {
         free(head);
-        set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", path,
-                "the file is empty");
+        set_err(err, errlen, "%s: not a mesh file Assimp can read (%s)", path, "the file is empty");
         return VP_ERR_FORMAT;
     }
     vp_result pr = precheck(head, got, (size_t)st.st_size, path, err, errlen);
     free(head);
-    if (pr != VP_OK)
-        return pr;
+    if (pr != VP_OK) return pr;
 
     return vp_mesh_import_isolated(import_path, path, path,
                                    vp_mesh_import_timeout((size_t)st.st_size), guard, out, err,
                                    errlen);
 }
 
-vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,
-                              vp_mesh **out, char *err, size_t errlen)
+vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint, vp_mesh **out,
+                              char *err, size_t errlen)
 {
     const char *name = "<memory>";
-    if (err && errlen)
-        err[0] = '\0';
+    if (err && errlen) err[0] = '\0';
     if (!out) {
         set_err(err, errlen, "%s: %s", name, "no output pointer");
         return VP_ERR_INVALID_ARGUMENT;
@@ -792,17 +759,15 @@ vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,
     }
     size_t scan = size < VP_MESH_PRECHECK_BYTES ? size : VP_MESH_PRECHECK_BYTES;
     vp_result pr = precheck((const unsigned char *)data, scan, size, name, err, errlen);
-    if (pr != VP_OK)
-        return pr;
+    if (pr != VP_OK) return pr;
     memory_source src = {data, size, hint ? hint : ""};
-    return vp_mesh_import_isolated(import_memory, &src, name, vp_mesh_import_timeout(size),
-                                   NULL, out, err, errlen);
+    return vp_mesh_import_isolated(import_memory, &src, name, vp_mesh_import_timeout(size), NULL,
+                                   out, err, errlen);
 }
 
 void vp_mesh_destroy(vp_mesh *m)
 {
-    if (!m)
-        return;
+    if (!m) return;
     free(m->verts);
     free(m->tris);
     free(m);

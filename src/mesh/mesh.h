@@ -10,18 +10,18 @@
 #include "vdbpack/vdbpack.h"
 
 typedef struct vp_mesh {
-    size_t nverts;        /* after welding */
-    size_t nverts_raw;    /* as read (after Assimp's triangulation) */
-    size_t ntris;         /* triangles kept (degenerate index triples dropped) */
-    double *verts;        /* 3*nverts, owned */
-    uint32_t *tris;       /* 3*ntris, owned */
+    size_t nverts;             /* after welding */
+    size_t nverts_raw;         /* as read (after Assimp's triangulation) */
+    size_t ntris;              /* triangles kept (degenerate index triples dropped) */
+    double *verts;             /* 3*nverts, owned */
+    uint32_t *tris;            /* 3*ntris, owned */
     size_t boundary_edges;     /* edges used by exactly one triangle */
     size_t nonmanifold_edges;  /* edges used by three or more triangles */
     size_t inconsistent_edges; /* edges of two triangles that run along it the
                                   same way (the orientation flips there) */
     size_t zero_area_tris;
-    size_t components;         /* connected components (by shared edges) */
-    double signed_volume;      /* divergence theorem; > 0: outward normals */
+    size_t components;    /* connected components (by shared edges) */
+    double signed_volume; /* divergence theorem; > 0: outward normals */
     double bmin[3], bmax[3];
 } vp_mesh;
 
@@ -47,8 +47,8 @@ vp_result vp_mesh_load_guarded(const char *path, const struct vp_subproc_guard *
                                vp_mesh **out, char *err, size_t errlen);
 
 /* Same, from an in-memory buffer; hint is the format extension ("obj"). */
-vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint,
-                              vp_mesh **out, char *err, size_t errlen);
+vp_result vp_mesh_load_memory(const void *data, size_t size, const char *hint, vp_mesh **out,
+                              char *err, size_t errlen);
 
 /* A mesh from arrays in memory (vp_container_from_mesh,
  * vp_mesh_shape_from_mesh): verts holds 3*nverts doubles, tris 3*ntris

@@ -76,8 +76,7 @@ vp_result vp_mesh_recount(vp_mesh *m)
         }
 
     double c[3];
-    for (int k = 0; k < 3; ++k)
-        c[k] = 0.5 * (m->bmin[k] + m->bmax[k]);
+    for (int k = 0; k < 3; ++k) c[k] = 0.5 * (m->bmin[k] + m->bmax[k]);
     double vol = 0.0;
     for (size_t t = 0; t < nt; ++t) {
         const double *p0 = m->verts + 3 * (size_t)m->tris[3 * t];
@@ -101,8 +100,7 @@ vp_result vp_mesh_recount(vp_mesh *m)
         free(parent);
         return VP_ERR_OUT_OF_MEMORY;
     }
-    for (size_t t = 0; t < nt; ++t)
-        parent[t] = (uint32_t)t;
+    for (size_t t = 0; t < nt; ++t) parent[t] = (uint32_t)t;
     m->boundary_edges = m->nonmanifold_edges = m->inconsistent_edges = 0;
     for (size_t i = 0; i < ne;) {
         size_t j = i + 1;
@@ -110,18 +108,15 @@ vp_result vp_mesh_recount(vp_mesh *m)
             vp_uf_union(parent, edges[i].tri, edges[j].tri);
             ++j;
         }
-        if (j - i == 1)
-            m->boundary_edges++;
-        else if (j - i >= 3)
-            m->nonmanifold_edges++;
+        if (j - i == 1) m->boundary_edges++;
+        else if (j - i >= 3) m->nonmanifold_edges++;
         else if (edges[i].forward == edges[i + 1].forward)
             m->inconsistent_edges++; /* both triangles run the same way along it */
         i = j;
     }
     m->components = 0;
     for (size_t t = 0; t < nt; ++t)
-        if (vp_uf_find(parent, (uint32_t)t) == t)
-            m->components++;
+        if (vp_uf_find(parent, (uint32_t)t) == t) m->components++;
     free(edges);
     free(parent);
     return VP_OK;
@@ -141,8 +136,7 @@ int vp_weld_init(vp_weld *w, size_t max_points)
 {
     memset(w, 0, sizeof *w);
     w->cap = 16;
-    while (w->cap < 2 * max_points)
-        w->cap <<= 1;
+    while (w->cap < 2 * max_points) w->cap <<= 1;
     w->table = calloc(w->cap, sizeof *w->table);
     w->pos = malloc(3 * (max_points ? max_points : 1) * sizeof *w->pos);
     if (!w->table || !w->pos) {
@@ -164,8 +158,7 @@ uint32_t vp_weld_add(vp_weld *w, const double p[3])
             return (uint32_t)w->n++;
         }
         const double *e = w->pos + 3 * (size_t)(id - 1);
-        if (e[0] == q[0] && e[1] == q[1] && e[2] == q[2])
-            return id - 1;
+        if (e[0] == q[0] && e[1] == q[1] && e[2] == q[2]) return id - 1;
         s = (s + 1) & (w->cap - 1);
     }
 }
@@ -191,13 +184,11 @@ vp_result vp_mesh_finish(vp_weld *w, uint32_t *tris, size_t ntri, size_t nraw,
         free(tris);
         return VP_ERR_OUT_OF_MEMORY;
     }
-    for (size_t i = 0; i < w->n; ++i)
-        remap[i] = UINT32_MAX;
+    for (size_t i = 0; i < w->n; ++i) remap[i] = UINT32_MAX;
     size_t nv = 0;
     for (size_t i = 0; i < 3 * ntri; ++i) {
         uint32_t o = tris[i];
-        if (remap[o] == UINT32_MAX)
-            remap[o] = (uint32_t)nv++;
+        if (remap[o] == UINT32_MAX) remap[o] = (uint32_t)nv++;
         tris[i] = remap[o];
     }
     m->tris = tris;
@@ -248,12 +239,9 @@ vp_result vp_mesh_from_arrays(const double *verts, size_t nverts, const uint32_t
                               size_t ntris, const char *name, vp_mesh **out, char *err,
                               size_t errlen)
 {
-    if (err && errlen)
-        err[0] = '\0';
-    if (!name || !*name)
-        name = "mesh";
-    if (!out)
-        return arrays_fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%s: out is NULL", name);
+    if (err && errlen) err[0] = '\0';
+    if (!name || !*name) name = "mesh";
+    if (!out) return arrays_fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%s: out is NULL", name);
     *out = NULL;
     if (nverts == 0 || ntris == 0)
         return arrays_fail(err, errlen, VP_ERR_FORMAT,
@@ -283,16 +271,16 @@ vp_result vp_mesh_from_arrays(const double *verts, size_t nverts, const uint32_t
             if (!isfinite(c[k]))
                 return arrays_fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                                    "%s: vertex %zu has a non-finite coordinate (%s) at (%g, %g, "
-                                   "%g)", name, v, vp_mesh_nonfinite_name(c[k]), c[0], c[1],
-                                   c[2]);
+                                   "%g)",
+                                   name, v, vp_mesh_nonfinite_name(c[k]), c[0], c[1], c[2]);
     }
     for (size_t t = 0; t < ntris; ++t)
         for (int j = 0; j < 3; ++j)
             if (tris[3 * t + j] >= nverts)
                 return arrays_fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                                    "%s: triangle %zu has vertex index %u, out of range (there "
-                                   "are %zu vertices, indexed from 0)", name, t,
-                                   tris[3 * t + j], nverts);
+                                   "are %zu vertices, indexed from 0)",
+                                   name, t, tris[3 * t + j], nverts);
     vp_weld w;
     uint32_t *wid = malloc(nverts * sizeof *wid);
     uint32_t *kept = malloc(3 * ntris * sizeof *kept);
@@ -301,8 +289,7 @@ vp_result vp_mesh_from_arrays(const double *verts, size_t nverts, const uint32_t
         free(kept);
         return arrays_fail(err, errlen, VP_ERR_OUT_OF_MEMORY, "%s: out of memory", name);
     }
-    for (size_t v = 0; v < nverts; ++v)
-        wid[v] = vp_weld_add(&w, verts + 3 * v);
+    for (size_t v = 0; v < nverts; ++v) wid[v] = vp_weld_add(&w, verts + 3 * v);
     size_t nkept = 0, zero = 0;
     for (size_t t = 0; t < ntris; ++t) {
         uint32_t a = wid[tris[3 * t]], b = wid[tris[3 * t + 1]], c = wid[tris[3 * t + 2]];
@@ -320,12 +307,10 @@ vp_result vp_mesh_from_arrays(const double *verts, size_t nverts, const uint32_t
         vp_weld_free(&w);
         free(kept);
         return arrays_fail(err, errlen, VP_ERR_FORMAT,
-                           "%s: no triangles (all %zu are degenerate after welding)", name,
-                           ntris);
+                           "%s: no triangles (all %zu are degenerate after welding)", name, ntris);
     }
     vp_result r = vp_mesh_finish(&w, kept, nkept, nverts, zero, out);
     vp_weld_free(&w);
-    if (r != VP_OK)
-        return arrays_fail(err, errlen, r, "%s: out of memory", name);
+    if (r != VP_OK) return arrays_fail(err, errlen, r, "%s: out of memory", name);
     return VP_OK;
 }

@@ -29,7 +29,8 @@ typedef struct tri_key {
     uint32_t tri;
 } tri_key;
 
-static int cmp_key(const void *pa, const void *pb) {
+static int cmp_key(const void *pa, const void *pb)
+{
     const tri_key *a = pa, *b = pb;
     for (int k = 0; k < 3; k++)
         if (a->v[k] != b->v[k]) return a->v[k] < b->v[k] ? -1 : 1;
@@ -38,7 +39,8 @@ static int cmp_key(const void *pa, const void *pb) {
 
 /* Step 1: duplicates. Keeps one triangle of each group with the group's net
  * orientation, none where the orientations cancel. Returns the new count. */
-static size_t drop_duplicates(vp_mesh *m, vp_mesh_repair *rep, int *oom) {
+static size_t drop_duplicates(vp_mesh *m, vp_mesh_repair *rep, int *oom)
+{
     size_t nt = m->ntris;
     tri_key *k = malloc((nt ? nt : 1) * sizeof *k);
     uint8_t *keep = calloc(nt ? nt : 1, 1);
@@ -55,7 +57,9 @@ static size_t drop_duplicates(vp_mesh *m, vp_mesh_repair *rep, int *oom) {
         for (int i = 0; i < 2; i++)
             for (int j = 0; j < 2 - i; j++)
                 if (v[j] > v[j + 1]) {
-                    uint32_t s = v[j]; v[j] = v[j + 1]; v[j + 1] = s;
+                    uint32_t s = v[j];
+                    v[j] = v[j + 1];
+                    v[j + 1] = s;
                     swaps++;
                 }
         memcpy(k[t].v, v, sizeof v);
@@ -73,7 +77,10 @@ static size_t drop_duplicates(vp_mesh *m, vp_mesh_repair *rep, int *oom) {
             /* the first triangle of the group with the net orientation */
             size_t pick = j;
             for (size_t q = i; q < j && net; q++)
-                if (k[q].sign == (net > 0 ? 1 : -1)) { pick = q; break; }
+                if (k[q].sign == (net > 0 ? 1 : -1)) {
+                    pick = q;
+                    break;
+                }
             if (pick < j) keep[k[pick].tri] = 1;
             if (net) rep->duplicate_triangles += j - i - 1;
             else rep->opposite_triangles += j - i;
@@ -88,7 +95,8 @@ static size_t drop_duplicates(vp_mesh *m, vp_mesh_repair *rep, int *oom) {
     return w;
 }
 
-static void flip_tri(uint32_t *t) {
+static void flip_tri(uint32_t *t)
+{
     uint32_t s = t[1];
     t[1] = t[2];
     t[2] = s;
@@ -98,7 +106,8 @@ static void flip_tri(uint32_t *t) {
  * edges of exactly two triangles; labels each triangle with its piece
  * (0..npieces-1, in order of first triangle). Returns 0, or -1 when out of
  * memory. */
-static int orient_pieces(vp_mesh *m, uint32_t *piece, size_t *npieces, vp_mesh_repair *rep) {
+static int orient_pieces(vp_mesh *m, uint32_t *piece, size_t *npieces, vp_mesh_repair *rep)
+{
     size_t nt = m->ntris, ne = 3 * nt;
     vp_edge_side *e = vp_edge_sides(m->tris, nt);
     /* for each triangle side, the other side of its edge when the edge has
@@ -141,9 +150,12 @@ static int orient_pieces(vp_mesh *m, uint32_t *piece, size_t *npieces, vp_mesh_r
                 uint32_t u = o / 3;
                 /* t runs along the edge a -> b (after its own flip); a
                  * consistent neighbour runs b -> a */
-                uint32_t a = m->tris[3 * t + (uint32_t)s], b = m->tris[3 * t + ((uint32_t)s + 1) % 3];
+                uint32_t a = m->tris[3 * t + (uint32_t)s],
+                         b = m->tris[3 * t + ((uint32_t)s + 1) % 3];
                 if (flip[t]) {
-                    uint32_t x = a; a = b; b = x;
+                    uint32_t x = a;
+                    a = b;
+                    b = x;
                 }
                 uint32_t ua = m->tris[o], ub = m->tris[3 * u + (o % 3 + 1) % 3];
                 int same_way = (ua == a && ub == b);
@@ -174,9 +186,9 @@ static int orient_pieces(vp_mesh *m, uint32_t *piece, size_t *npieces, vp_mesh_r
 }
 
 typedef struct piece_info {
-    double volume;     /* signed, about the mesh's centre (x 6) */
-    size_t boundary;   /* sides with no partner (or more than one) */
-    size_t largest;    /* its triangle of largest area */
+    double volume;   /* signed, about the mesh's centre (x 6) */
+    size_t boundary; /* sides with no partner (or more than one) */
+    size_t largest;  /* its triangle of largest area */
     double largest_area;
     double lo[3], hi[3];
 } piece_info;
@@ -186,14 +198,16 @@ typedef struct lo_key {
     uint32_t i;
 } lo_key;
 
-static int cmp_lo(const void *pa, const void *pb) {
+static int cmp_lo(const void *pa, const void *pb)
+{
     const lo_key *a = pa, *b = pb;
     if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
     return (a->i > b->i) - (a->i < b->i);
 }
 
 /* 1 when the bounding boxes of two pieces overlap: a sweep along x. */
-static int boxes_overlap(const piece_info *pi, size_t np) {
+static int boxes_overlap(const piece_info *pi, size_t np)
+{
     if (np < 2) return 0;
     lo_key *order = malloc(np * sizeof *order);
     if (!order) return 1; /* assume the worst: the winding route is always right */
@@ -213,14 +227,15 @@ static int boxes_overlap(const piece_info *pi, size_t np) {
     return hit;
 }
 
-static void turn_piece(vp_mesh *m, const uint32_t *piece, uint32_t p) {
+static void turn_piece(vp_mesh *m, const uint32_t *piece, uint32_t p)
+{
     for (size_t t = 0; t < m->ntris; t++)
         if (piece[t] == p) flip_tri(m->tris + 3 * t);
 }
 
 /* The winding number of piece p's triangles at q (exact). */
-static double piece_winding(const vp_mesh *m, const uint32_t *piece, uint32_t p,
-                            const double q[3]) {
+static double piece_winding(const vp_mesh *m, const uint32_t *piece, uint32_t p, const double q[3])
+{
     double w = 0;
     for (size_t t = 0; t < m->ntris; t++)
         if (piece[t] == p) w += vp_winding_exact(m->verts, m->tris + 3 * t, 1, q);
@@ -229,7 +244,8 @@ static double piece_winding(const vp_mesh *m, const uint32_t *piece, uint32_t p,
 
 /* A point just behind triangle t (off its centre, against its normal, by
  * eps). */
-static void behind(const vp_mesh *m, size_t t, double eps, double q[3]) {
+static void behind(const vp_mesh *m, size_t t, double eps, double q[3])
+{
     const uint32_t *c = m->tris + 3 * t;
     const double *p0 = m->verts + 3 * (size_t)c[0], *p1 = m->verts + 3 * (size_t)c[1],
                  *p2 = m->verts + 3 * (size_t)c[2];
@@ -251,7 +267,8 @@ static void behind(const vp_mesh *m, size_t t, double eps, double q[3]) {
  * bounding box's diagonal) so that the point is past the surface's local
  * detail. */
 static int open_piece_inside_out(const vp_mesh *m, const uint32_t *piece, uint32_t p,
-                                 const piece_info *info) {
+                                 const piece_info *info)
+{
     enum { K = 8 };
     size_t best[K];
     double area[K];
@@ -289,12 +306,15 @@ static int open_piece_inside_out(const vp_mesh *m, const uint32_t *piece, uint32
     }
     for (int i = 1; i < nb; i++) /* sort for the median */
         for (int j = i; j > 0 && w[j] < w[j - 1]; j--) {
-            double s = w[j]; w[j] = w[j - 1]; w[j - 1] = s;
+            double s = w[j];
+            w[j] = w[j - 1];
+            w[j - 1] = s;
         }
     return nb > 0 && w[nb / 2] < 0.25;
 }
 
-vp_result vp_mesh_prepare_winding(vp_mesh *m, vp_mesh_repair *rep) {
+vp_result vp_mesh_prepare_winding(vp_mesh *m, vp_mesh_repair *rep)
+{
     vp_mesh_repair local;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
@@ -386,7 +406,9 @@ vp_result vp_mesh_prepare_winding(vp_mesh *m, vp_mesh_repair *rep) {
         if (!pi[p].boundary && pi[p].volume < 0) cand[ncand++] = (uint32_t)p;
     for (size_t i = 1; i < ncand; i++) /* by volume, most negative first */
         for (size_t j = i; j > 0 && pi[cand[j]].volume < pi[cand[j - 1]].volume; j--) {
-            uint32_t s = cand[j]; cand[j] = cand[j - 1]; cand[j - 1] = s;
+            uint32_t s = cand[j];
+            cand[j] = cand[j - 1];
+            cand[j - 1] = s;
         }
     vp_winding *all = ncand ? vp_winding_build(m->verts, m->nverts, m->tris, nt, NULL) : NULL;
     if (ncand && !all) {
@@ -414,7 +436,8 @@ vp_result vp_mesh_prepare_winding(vp_mesh *m, vp_mesh_repair *rep) {
         n[2] = u[0] * v[1] - u[1] * v[0];
         double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         double diag = 0;
-        for (int k = 0; k < 3; k++) diag += (pi[p].hi[k] - pi[p].lo[k]) * (pi[p].hi[k] - pi[p].lo[k]);
+        for (int k = 0; k < 3; k++)
+            diag += (pi[p].hi[k] - pi[p].lo[k]) * (pi[p].hi[k] - pi[p].lo[k]);
         double eps = 1e-4 * sqrt(diag);
         for (int k = 0; k < 3; k++) q[k] = (p0[k] + p1[k] + p2[k]) / 3.0 + eps * n[k] / ln;
         /* the other pieces' winding number there: the whole mesh's, less
@@ -438,7 +461,8 @@ vp_result vp_mesh_prepare_winding(vp_mesh *m, vp_mesh_repair *rep) {
     return vp_mesh_recount(m);
 }
 
-vp_result vp_mesh_hole_boxes(const vp_mesh *m, double **boxes, size_t *nboxes) {
+vp_result vp_mesh_hole_boxes(const vp_mesh *m, double **boxes, size_t *nboxes)
+{
     *boxes = NULL;
     *nboxes = 0;
     if (!m->boundary_edges) return VP_OK;
@@ -521,7 +545,8 @@ vp_result vp_mesh_hole_boxes(const vp_mesh *m, double **boxes, size_t *nboxes) {
     return VP_OK;
 }
 
-uint8_t *vp_mesh_rim_triangles(const vp_mesh *m) {
+uint8_t *vp_mesh_rim_triangles(const vp_mesh *m)
+{
     uint8_t *rim = calloc(m->ntris ? m->ntris : 1, 1);
     vp_edge_side *e = vp_edge_sides(m->tris, m->ntris);
     if (!rim || !e) {

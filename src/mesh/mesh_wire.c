@@ -40,8 +40,8 @@ int vp_mesh_wire_write(int fd, vp_result r, const char *err, const vp_mesh *m)
     return bad ? -1 : 0;
 }
 
-int vp_mesh_wire_read(int fd, vp_subproc_watch *w, const char *name, vp_result *res,
-                      vp_mesh **out, char *err, size_t errlen)
+int vp_mesh_wire_read(int fd, vp_subproc_watch *w, const char *name, vp_result *res, vp_mesh **out,
+                      char *err, size_t errlen)
 {
     *res = VP_OK;
     *out = NULL;

@@ -20,7 +20,7 @@ int vp_mesh_wire_write(int fd, vp_result r, const char *err, const vp_mesh *m);
  * caller), or VP_ERR_OUT_OF_MEMORY ("NAME: out of memory" in err) when
  * the mesh cannot be allocated here. On any other return *out is NULL and
  * *res VP_OK. */
-int vp_mesh_wire_read(int fd, vp_subproc_watch *w, const char *name, vp_result *res,
-                      vp_mesh **out, char *err, size_t errlen);
+int vp_mesh_wire_read(int fd, vp_subproc_watch *w, const char *name, vp_result *res, vp_mesh **out,
+                      char *err, size_t errlen);
 
 #endif

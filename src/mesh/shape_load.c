@@ -12,7 +12,8 @@
 /* A welded mesh (owned: destroyed here) into a shape named bn, once it is
  * known to be closed. */
 static vp_result shape_from_welded(vp_context *ctx, const char *bn, vp_mesh *mesh,
-                                   vp_mesh_shape **out) {
+                                   vp_mesh_shape **out)
+{
     if (mesh->boundary_edges || mesh->nonmanifold_edges) {
         size_t b = mesh->boundary_edges, n = mesh->nonmanifold_edges;
         vp_mesh_destroy(mesh);
@@ -30,7 +31,8 @@ static vp_result shape_from_welded(vp_context *ctx, const char *bn, vp_mesh *mes
     return vp_mesh_shape_create(ctx, bn, verts, nv, tris, nt, out);
 }
 
-vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **out) {
+vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **out)
+{
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "shape: out is NULL");
     *out = NULL;
     if (!path || !*path) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "shape: no mesh file given");
@@ -46,7 +48,8 @@ vp_result vp_mesh_shape_load(vp_context *ctx, const char *path, vp_mesh_shape **
 
 vp_result vp_mesh_shape_from_mesh(vp_context *ctx, const char *name, const double *vertices,
                                   size_t vertex_count, const uint32_t *triangles,
-                                  size_t triangle_count, vp_mesh_shape **out) {
+                                  size_t triangle_count, vp_mesh_shape **out)
+{
     if (!out) return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "shape: out is NULL");
     *out = NULL;
     if (!name || !*name) name = "mesh";

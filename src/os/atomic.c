@@ -149,8 +149,8 @@ vp_result vp_os_atomic_begin(vp_atomic *a, const char *path) {
         strcpy(dir, ".");
     }
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return fail(a, VP_ERR_IO, "%s: cannot write output: directory %s does not exist",
-                       path, dir);
+        return fail(a, VP_ERR_IO, "%s: cannot write output: directory %s does not exist", path,
+                    dir);
     int w, suffix = 0;
     if (a->through) { /* not beside a device: /dev may not take files */
         const char *tmpdir = getenv("TMPDIR");
@@ -210,7 +210,7 @@ static vp_result copy_through(vp_atomic *a) {
             if (got < 0) {
                 if (errno == EINTR) continue;
                 r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
-                            strerror(errno));
+                         strerror(errno));
                 break;
             }
             for (ssize_t off = 0; off < got && r == VP_OK;) {
@@ -218,15 +218,13 @@ static vp_result copy_through(vp_atomic *a) {
                 if (w < 0 && errno == EINTR) continue;
                 if (w <= 0)
                     r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
-                                strerror(w < 0 ? errno : ENOSPC));
-                else
-                    off += w;
+                             strerror(w < 0 ? errno : ENOSPC));
+                else off += w;
             }
         }
     }
     if (out >= 0 && close(out) != 0 && r == VP_OK)
-        r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path,
-                    strerror(errno));
+        r = fail(a, VP_ERR_IO, "%s: cannot write output (%s)", a->final_path, strerror(errno));
     if (in >= 0) close(in);
     vp_os_atomic_abort(a);
     return r;

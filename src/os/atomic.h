@@ -16,9 +16,9 @@
 typedef struct vp_atomic {
     char final_path[4096];
     char tmp_path[4096];
-    int slot;      /* in the registry of vp_remove_partial_outputs(), or -1 */
-    int through;   /* the target is not a regular file: copy into it */
-    int dirfd;     /* the target's directory, when tmp_path names the
+    int slot;    /* in the registry of vp_remove_partial_outputs(), or -1 */
+    int through; /* the target is not a regular file: copy into it */
+    int dirfd;   /* the target's directory, when tmp_path names the
                       temporary through /proc/self/fd (a target path within
                       14 bytes of PATH_MAX) and dir_open is 1 */
     int dir_open;

@@ -27,8 +27,10 @@ int vp_os_open_input(const char *path, char *msg, size_t msglen) {
      * again on what open() gave, in case the name changed between */
     struct stat st;
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        vp_os_format(msg, msglen, "%s: not a regular file but %s: vdbpack reads its inputs from "
-                                  "regular files only", path, kind(st.st_mode));
+        vp_os_format(msg, msglen,
+                     "%s: not a regular file but %s: vdbpack reads its inputs from "
+                     "regular files only",
+                     path, kind(st.st_mode));
         return -1;
     }
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -45,8 +47,10 @@ int vp_os_open_input(const char *path, char *msg, size_t msglen) {
     }
     if (!S_ISREG(st.st_mode)) {
         close(fd);
-        vp_os_format(msg, msglen, "%s: not a regular file but %s: vdbpack reads its inputs from "
-                                  "regular files only", path, kind(st.st_mode));
+        vp_os_format(msg, msglen,
+                     "%s: not a regular file but %s: vdbpack reads its inputs from "
+                     "regular files only",
+                     path, kind(st.st_mode));
         return -1;
     }
     int fl = fcntl(fd, F_GETFL);

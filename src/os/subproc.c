@@ -89,8 +89,7 @@ static int child_starved(pid_t pid, double cpu) {
 /* 1 when the watch's deadline was moved on (see vp_subproc_watch). */
 static int extend(vp_subproc_watch *w) {
     double now = vp_subproc_now();
-    if (now >= w->start + 10.0 * w->timeout || !child_starved(w->pid, 0.5 * w->timeout))
-        return 0;
+    if (now >= w->start + 10.0 * w->timeout || !child_starved(w->pid, 0.5 * w->timeout)) return 0;
     w->deadline = now + 1.0;
     return 1;
 }
@@ -182,7 +181,8 @@ static void child_setup(pid_t parent, const vp_subproc_guard *g) {
     sigemptyset(&sa.sa_mask);
     sa.sa_handler = SIG_DFL;
     for (int sig = 1; sig < 65; sig++)
-        if (sig != SIGKILL && sig != SIGSTOP) sigaction(sig, &sa, NULL); /* (errors: not a signal) */
+        if (sig != SIGKILL && sig != SIGSTOP)
+            sigaction(sig, &sa, NULL); /* (errors: not a signal) */
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, NULL);
@@ -224,8 +224,7 @@ pid_t vp_subproc_fork(const vp_subproc_guard *g) {
 
 int vp_subproc_wait(pid_t pid) {
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     return status;
 }
 

@@ -80,9 +80,9 @@ int vp_subproc_write_all(int fd, const void *buf, size_t n);
  * a deadlock) or that has used its CPU time ends at the deadline. */
 typedef struct vp_subproc_watch {
     pid_t pid;
-    double timeout;  /* seconds */
-    double start;    /* vp_subproc_now() when the child started */
-    double deadline; /* moves while the child is starved */
+    double timeout;                /* seconds */
+    double start;                  /* vp_subproc_now() when the child started */
+    double deadline;               /* moves while the child is starved */
     const vp_subproc_guard *guard; /* its cancel is polled; may be NULL */
 } vp_subproc_watch;
 /* Starts the watch of child pid with the given timeout (guard NULL). */

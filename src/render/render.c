@@ -58,13 +58,13 @@ typedef struct scene {
     int mixed;
     int cut_axis;
     double cut_value;
-    double bmin[3], bmax[3];   /* grid bounds */
-    double h, inv_h;           /* cell edge */
+    double bmin[3], bmax[3]; /* grid bounds */
+    double h, inv_h;         /* cell edge */
     int n[3];
-    uint32_t *cell_start;      /* n0*n1*n2 + 1 offsets into refs */
-    uint32_t *refs;            /* particle indices, by cell */
+    uint32_t *cell_start; /* n0*n1*n2 + 1 offsets into refs */
+    uint32_t *refs;       /* particle indices, by cell */
     double rmin, rmax, rmean;
-    uint8_t *contacts;         /* per particle, VP_COLOUR_CONTACTS only */
+    uint8_t *contacts; /* per particle, VP_COLOUR_CONTACTS only */
 } scene;
 
 typedef struct hit {
@@ -82,8 +82,7 @@ static double radius_of(const vp_particles *p, size_t i) {
 static int particle_kept(const scene *S, size_t i) {
     const double *c = S->p->positions + 3 * i;
     double r = radius_of(S->p, i);
-    if (!(r > 0) || !isfinite(r) || !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2]))
-        return 0;
+    if (!(r > 0) || !isfinite(r) || !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) return 0;
     if (S->cut_axis >= 0) {
         /* a solid's nearest point to the plane lies at most r and at least
          * its inradius below the centre; r is the safe bound */
@@ -151,7 +150,7 @@ static vp_result scene_build(vp_context *ctx, scene *S, uint64_t budget) {
     if (kept == 0 && S->cut_axis >= 0)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "nothing to render: the cut removes every particle (all lie where %c > %g)",
-                       "xyz"[S->cut_axis], S->cut_value);
+                       "xyz"[S->cut_axis], S -> cut_value);
     if (kept == 0)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "nothing to render: no particle with a positive radius");
@@ -198,7 +197,8 @@ static vp_result scene_build(vp_context *ctx, scene *S, uint64_t budget) {
         vp_format_bytes((double)bytes, b, sizeof b);
         return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
                        "render: the acceleration grid would need %s (%llu cell references), "
-                       "more than the memory left", b, (unsigned long long)total);
+                       "more than the memory left",
+                       b, (unsigned long long)total);
     }
     S->cell_start = calloc(ncells + 1, sizeof(uint32_t));
     S->refs = malloc((size_t)(total ? total : 1) * sizeof(uint32_t));
@@ -236,8 +236,8 @@ static int clip_cut(const scene *S, const double o[3], const double d[3], double
 }
 
 /* Nearest entry of the ray into particle i with tmin < t < h->t; updates h. */
-static void intersect(const scene *S, uint32_t i, const double o[3], const double d[3],
-                      double tmin, hit *h) {
+static void intersect(const scene *S, uint32_t i, const double o[3], const double d[3], double tmin,
+                      hit *h) {
     const double *c = S->p->positions + 3 * (size_t)i;
     double r = radius_of(S->p, i);
     double oc[3] = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};
@@ -343,7 +343,11 @@ static int trace(const scene *S, const double o[3], const double d[3], double tm
             if (o[k] < S->bmin[k] || o[k] > S->bmax[k]) return 0;
             continue;
         }
-        if (a > b) { double x = a; a = b; b = x; }
+        if (a > b) {
+            double x = a;
+            a = b;
+            b = x;
+        }
         if (a > t0) t0 = a;
         if (b < t1) t1 = b;
         if (t0 > t1) return 0;
@@ -405,7 +409,9 @@ typedef struct camera {
 static int normalize(double v[3]) {
     double n = vp_norm3(v);
     if (!(n > 0) || !isfinite(n)) return 0;
-    v[0] /= n; v[1] /= n; v[2] /= n;
+    v[0] /= n;
+    v[1] /= n;
+    v[2] /= n;
     return 1;
 }
 
@@ -439,8 +445,9 @@ static vp_result camera_setup(vp_context *ctx, const scene *S, const vp_render_p
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "render: the camera's eye and target must be distinct finite points");
         if (!camera_basis(C, rp->up))
-            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "render: the camera's up direction is "
-                                                         "parallel to its view direction");
+            return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                           "render: the camera's up direction is "
+                           "parallel to its view direction");
         return VP_OK;
     }
     double up[3] = {0, 1, 0};
@@ -483,10 +490,9 @@ static void hsv(double hdeg, double s, double v, float out[3]) {
 
 static void base_colour(const scene *S, vp_render_colour mode, uint32_t i, float out[3]) {
     /* linear RGB; the pass palette is 8 well separated hues */
-    static const float pal[8][3] = {{0.80f, 0.33f, 0.10f}, {0.10f, 0.38f, 0.80f},
-                                    {0.25f, 0.65f, 0.15f}, {0.85f, 0.65f, 0.05f},
-                                    {0.55f, 0.20f, 0.70f}, {0.05f, 0.60f, 0.60f},
-                                    {0.80f, 0.15f, 0.35f}, {0.55f, 0.55f, 0.55f}};
+    static const float pal[8][3] = {
+        {0.80f, 0.33f, 0.10f}, {0.10f, 0.38f, 0.80f}, {0.25f, 0.65f, 0.15f}, {0.85f, 0.65f, 0.05f},
+        {0.55f, 0.20f, 0.70f}, {0.05f, 0.60f, 0.60f}, {0.80f, 0.15f, 0.35f}, {0.55f, 0.55f, 0.55f}};
     if (mode == VP_COLOUR_PASS) {
         unsigned g = S->p->groups ? S->p->groups[i] : 0;
         memcpy(out, pal[g % 8], 3 * sizeof(float));
@@ -534,7 +540,8 @@ static void shade_pixel(const render_job *J, int px, int py) {
         return;
     }
     /* facing the camera (a cut face seen from behind stays lit the same) */
-    if (vp_dot3(h.n, d) > 0) for (int k = 0; k < 3; k++) h.n[k] = -h.n[k];
+    if (vp_dot3(h.n, d) > 0)
+        for (int k = 0; k < 3; k++) h.n[k] = -h.n[k];
     double x[3];
     double r = radius_of(S->p, h.idx);
     double eps = 1e-6 * fmax(r, h.t * 1e-3);
@@ -666,17 +673,17 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
         (uint64_t)rp.width * (uint64_t)rp.height > VP_RENDER_MAX_PIXELS)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "render: image size %dx%d out of range (each side 1..%d, at most %u "
-                       "pixels)", rp.width, rp.height, VP_RENDER_MAX_SIDE, VP_RENDER_MAX_PIXELS);
+                       "pixels)",
+                       rp.width, rp.height, VP_RENDER_MAX_SIDE, VP_RENDER_MAX_PIXELS);
     if (!(rp.fov_degrees > 0.1 && rp.fov_degrees < 179))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "render: field of view %g degrees out of range (0.1..179)",
-                       rp.fov_degrees);
+                       "render: field of view %g degrees out of range (0.1..179)", rp.fov_degrees);
     if (rp.view < VP_VIEW_ISO || rp.view > VP_VIEW_CAMERA || rp.colour < VP_COLOUR_PASS ||
         rp.colour > VP_COLOUR_CONTACTS || rp.cut_axis < -1 || rp.cut_axis > 2 ||
-        (rp.cut_axis >= 0 && !isfinite(rp.cut_value)) || rp.ao_samples < 0 ||
-        rp.ao_samples > 64)
-        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "render: invalid view, colour, cut or "
-                                                     "ambient-occlusion setting");
+        (rp.cut_axis >= 0 && !isfinite(rp.cut_value)) || rp.ao_samples < 0 || rp.ao_samples > 64)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "render: invalid view, colour, cut or "
+                       "ambient-occlusion setting");
     if (p->count == 0)
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT, "nothing to render: the set has no particles");
     if (p->count > UINT32_MAX - 1)
@@ -687,8 +694,10 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
     uint64_t img_bytes = npix * 24;
     uint64_t limit = vp_memory_limit(ctx);
     if (img_bytes > limit)
-        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: a %dx%d image needs more memory than "
-                                                  "the limit", rp.width, rp.height);
+        return vp_fail(ctx, VP_ERR_OUT_OF_MEMORY,
+                       "render: a %dx%d image needs more memory than "
+                       "the limit",
+                       rp.width, rp.height);
 
     scene S;
     memset(&S, 0, sizeof S);
@@ -707,8 +716,8 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
             return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                            "render: the particles are of a mesh shape: give the mesh (vdbpack "
                            "render --shape FILE)");
-        K->poly = p->has_orient || ref.shape != VP_SHAPE_SPHERE ? vp_shape_polyhedron(ref.shape)
-                                                                : NULL;
+        K->poly =
+            p->has_orient || ref.shape != VP_SHAPE_SPHERE ? vp_shape_polyhedron(ref.shape) : NULL;
         K->mesh = ref.shape == VP_SHAPE_MESH        ? ref.mesh
                   : ref.shape == VP_SHAPE_SUPERBALL ? vp_superball_mesh(ref.param, NULL)
                                                     : NULL;
@@ -737,8 +746,8 @@ vp_result vp_render(vp_context *ctx, const vp_particles *p, const vp_render_para
         img->id = malloc((size_t)npix * sizeof(uint32_t));
     }
     if (!img || !img->rgba || !img->z || !img->id) {
-        r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory for a %dx%d image",
-                    rp.width, rp.height);
+        r = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "render: out of memory for a %dx%d image", rp.width,
+                    rp.height);
         goto done;
     }
 

@@ -33,7 +33,8 @@ extern "C" [[noreturn]] void __assert_fail(const char *expr, const char *file, u
 {
     if (vpv::guard_depth > 0)
         throw vpv::assertion_failed(std::string("OpenVDB's reader rejected its data (internal "
-                                                "check '") + expr + "' failed)");
+                                                "check '") +
+                                    expr + "' failed)");
     std::fprintf(stderr, "%s:%u: %s: Assertion `%s' failed.\n", file, line, func, expr);
     std::abort();
 }

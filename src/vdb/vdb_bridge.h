@@ -32,17 +32,17 @@ int vpv_quiesce_threads(void);
 typedef struct vpv_levelset vpv_levelset;
 
 typedef struct vpv_levelset_info {
-    double voxel_size;     /* smallest voxel edge (world) */
+    double voxel_size;       /* smallest voxel edge (world) */
     double bmin[3], bmax[3]; /* world bbox of the active voxels */
-    double background;     /* exterior background value (world units, > 0) */
-    double interior_band;  /* depth inside to which values are distances:
+    double background;       /* exterior background value (world units, > 0) */
+    double interior_band;    /* depth inside to which values are distances:
                               the grid's -(most negative value), inactive
                               values included (they hold the band) */
     size_t active_voxels;
-    size_t inside_voxels;  /* active voxels < 0 (tiles counted by voxel) */
-    double volume;         /* world volume inside (OpenVDB level-set measure, or
+    size_t inside_voxels; /* active voxels < 0 (tiles counted by voxel) */
+    double volume;        /* world volume inside (OpenVDB level-set measure, or
                               the inside voxels' when larger) */
-    int leaked;            /* 1: some voxel on a face of the active bbox is < 0,
+    int leaked;           /* 1: some voxel on a face of the active bbox is < 0,
                               i.e. the inside reaches the grid's boundary */
     char name[128];
 } vpv_levelset_info;
@@ -59,11 +59,10 @@ typedef struct vpv_levelset_info {
  * at a time) while OpenVDB voxelizes; once it returns 0 the work stops and
  * the call returns VP_ERR_CANCELLED with nothing in *out.
  * *out is owned by the caller (vpv_levelset_destroy). */
-int vpv_levelset_from_mesh(const double *verts, size_t nverts,
-                           const uint32_t *tris, size_t ntris,
+int vpv_levelset_from_mesh(const double *verts, size_t nverts, const uint32_t *tris, size_t ntris,
                            double voxel, double ex_band, double in_band, int renormalize,
-                           int (*keep_going)(void *user), void *user,
-                           vpv_levelset **out, char *err, size_t errlen);
+                           int (*keep_going)(void *user), void *user, vpv_levelset **out, char *err,
+                           size_t errlen);
 
 /* The winding numbers of a mesh, for vpv_levelset_from_mesh_winding.
  * Both calls come from several threads at once. */
@@ -86,12 +85,10 @@ typedef struct vpv_winding_ops {
  * and to the triangles are solved again together (OpenVDB's fast
  * sweeping); tiles beyond the leaves take the sign of the winding number at
  * their centres. */
-int vpv_levelset_from_mesh_winding(const double *verts, size_t nverts,
-                                   const uint32_t *tris, size_t ntris,
-                                   double voxel, double ex_band, double in_band,
-                                   const vpv_winding_ops *winding,
-                                   const double *holes, size_t nholes,
-                                   int (*keep_going)(void *user), void *user,
+int vpv_levelset_from_mesh_winding(const double *verts, size_t nverts, const uint32_t *tris,
+                                   size_t ntris, double voxel, double ex_band, double in_band,
+                                   const vpv_winding_ops *winding, const double *holes,
+                                   size_t nholes, int (*keep_going)(void *user), void *user,
                                    vpv_levelset **out, char *err, size_t errlen);
 
 /* Reads a level set from a .vdb. grid_name NULL: the first float level set
@@ -100,8 +97,8 @@ int vpv_levelset_from_mesh_winding(const double *verts, size_t nverts,
  * grid gives VP_ERR_NOT_LEVEL_SET with a message listing every grid as
  * name [class, value type]. Truncated/corrupt files give VP_ERR_FORMAT,
  * missing ones VP_ERR_IO. */
-int vpv_levelset_read(const char *path, const char *grid_name,
-                      vpv_levelset **out, char *err, size_t errlen);
+int vpv_levelset_read(const char *path, const char *grid_name, vpv_levelset **out, char *err,
+                      size_t errlen);
 
 /* A fog or density grid as a level set (vp_container_params.has_iso):
  * grid_name NULL picks the first float grid that is not a level set; the
@@ -109,23 +106,21 @@ int vpv_levelset_read(const char *path, const char *grid_name,
  * fast sweeping (fogToSdf) at the grid's voxel size. A level set named
  * here, an iso outside the grid's values (no surface), a grid of another
  * type: VP_ERR_INVALID_ARGUMENT or VP_ERR_NOT_LEVEL_SET, one line. */
-int vpv_levelset_read_fog(const char *path, const char *grid_name, double iso,
-                          vpv_levelset **out, char *err, size_t errlen);
+int vpv_levelset_read_fog(const char *path, const char *grid_name, double iso, vpv_levelset **out,
+                          char *err, size_t errlen);
 
 /* Makes sure values are distances to at least in_depth (world) inside; if
  * the grid's interior band is narrower, it is widened inward by fast
  * sweeping from the band it has (OpenVDB's dilateSdf), keeping the signs
  * the grid has (a cavity stays outside). */
-int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth,
-                                 char *err, size_t errlen);
+int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, char *err, size_t errlen);
 
 /* About how many voxels the rebuild of vpv_levelset_ensure_interior(ls,
  * in_depth) makes: 0 when none is needed; otherwise the surface's voxels
  * (64 a leaf, plus the faces of inside tiles that meet the outside) times
  * the band widths, at most inside_voxels plus the outer band. Never fails
  * (0 on error). */
-double vpv_levelset_rebuild_voxels(const vpv_levelset *ls, double in_depth,
-                                   double inside_voxels);
+double vpv_levelset_rebuild_voxels(const vpv_levelset *ls, double in_depth, double inside_voxels);
 
 void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info);
 
@@ -141,12 +136,12 @@ void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info *info);
 typedef struct vpv_blocks {
     double origin[3];
     double block, voxel;
-    double background;     /* |the grid's background| (the exterior band) */
+    double background; /* |the grid's background| (the exterior band) */
     int64_t dims[3];
     float *value;
 } vpv_blocks;
-int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vpv_blocks *out,
-                        char *err, size_t errlen);
+int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vpv_blocks *out, char *err,
+                        size_t errlen);
 
 /* Trilinear sample of the signed distance at world point p. Outside the
  * narrow band the background (+ outside, - inside) is returned.
@@ -157,9 +152,8 @@ void vpv_levelset_gradient(const vpv_levelset *ls, const double p[3], double g[3
 
 /* Writes the level set alone to path (not atomic: the caller passes a
  * temporary path and renames). meta may be NULL. */
-int vpv_levelset_write(const vpv_levelset *ls, const char *path,
-                       const vp_meta *meta, size_t meta_count,
-                       char *err, size_t errlen);
+int vpv_levelset_write(const vpv_levelset *ls, const char *path, const vp_meta *meta,
+                       size_t meta_count, char *err, size_t errlen);
 
 void vpv_levelset_destroy(vpv_levelset *ls);
 
@@ -167,8 +161,10 @@ void vpv_levelset_destroy(vpv_levelset *ls);
  * (as vpv_points_read reports it): sqrt(3) x the codec's step x voxel. */
 static inline double vpv_points_error(double voxel, int full_precision)
 {
-    return 1.7320508075688772 * (full_precision ? 5.9604644775390625e-8 /* 2^-24 */
-                                                : 1.0 / 65535.0) * voxel;
+    return 1.7320508075688772 *
+           (full_precision ? 5.9604644775390625e-8 /* 2^-24 */
+                           : 1.0 / 65535.0) *
+           voxel;
 }
 /* The smallest voxel the writer uses for positions up to maxabs from the
  * origin: OpenVDB's smallest scale, or what keeps index coordinates within
@@ -186,8 +182,8 @@ static inline double vpv_points_min_voxel(double maxabs)
  * becomes float where it would be too coarse for the smallest radius; a set
  * that even float P cannot hold is refused (VP_ERR_INVALID_ARGUMENT, before
  * anything is written); params->report, if set, is filled on success. */
-int vpv_points_write(const char *path, const vp_particles *p,
-                     const vp_write_params *params, char *err, size_t errlen);
+int vpv_points_write(const char *path, const vp_particles *p, const vp_write_params *params,
+                     char *err, size_t errlen);
 
 /* Reads the first PointDataGrid (preferring one named "points"): P,
  * pscale (else radius 0), orient (else none), groups (pass groups in the

@@ -85,23 +85,28 @@ int from_exception(const char *path, Op op, char *err, size_t errlen)
         if (op == Op::Write)
             return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", nm(path), e.what());
         if (op == Op::Read)
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path), e.what());
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path),
+                        e.what());
         return fail(err, errlen, VP_ERR_INTERNAL, "%s: %s", nm(path), e.what());
     } catch (const openvdb::Exception &e) {
         if (op == Op::Read)
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path), e.what());
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path),
+                        e.what());
         if (op == Op::Write)
-            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%s: cannot write points (%s)", nm(path), e.what());
+            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%s: cannot write points (%s)",
+                        nm(path), e.what());
         return fail(err, errlen, VP_ERR_INTERNAL, "%s: OpenVDB error (%s)", nm(path), e.what());
     } catch (const std::exception &e) {
         if (op == Op::Read)
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path), e.what());
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (%s)", nm(path),
+                        e.what());
         if (op == Op::Write)
             return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", nm(path), e.what());
         return fail(err, errlen, VP_ERR_INTERNAL, "%s: unexpected error (%s)", nm(path), e.what());
     } catch (...) {
         if (op == Op::Read)
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (unknown error)", nm(path));
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: not a readable .vdb file (unknown error)",
+                        nm(path));
         return fail(err, errlen, VP_ERR_INTERNAL, "%s: unknown internal error", nm(path));
     }
 }
@@ -110,7 +115,8 @@ int check_writable(const char *path, char *err, size_t errlen)
 {
     if (!path || !*path) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "no file name given");
     FILE *f = fopen(path, "wb");
-    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    if (!f)
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
     fclose(f);
     return VP_OK;
 }
@@ -121,9 +127,8 @@ static constexpr size_t kMinVdbBytes = 65;
 
 namespace {
 // io::Archive's header reader is protected: this gives it to check_extent.
-class HeaderReader : public openvdb::io::Archive
-{
-public:
+class HeaderReader : public openvdb::io::Archive {
+  public:
     bool read(std::istream &is)
     {
         readHeader(is);
@@ -143,7 +148,8 @@ public:
 static int check_extent(const char *path, uint64_t size, char *err, size_t errlen)
 {
     std::ifstream is(path, std::ios::binary);
-    if (!is) return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
+    if (!is)
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot open file (%s)", path, strerror(errno));
     HeaderReader header;
     if (!header.read(is)) return VP_OK; // files before format 212 record no offsets
     openvdb::MetaMap meta;
@@ -255,7 +261,8 @@ int make_deterministic(const char *path, char *err, size_t errlen)
 {
     const long uuid_at = 21, uuid_len = 36;
     FILE *f = fopen(path, "r+b");
-    if (!f) return fail(err, errlen, VP_ERR_IO, "%s: cannot reopen file (%s)", path, strerror(errno));
+    if (!f)
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot reopen file (%s)", path, strerror(errno));
     unsigned char head[21 + 36];
     if (fread(head, 1, sizeof head, f) != sizeof head || memcmp(head, " BDV", 4) != 0) {
         fclose(f);
@@ -264,7 +271,10 @@ int make_deterministic(const char *path, char *err, size_t errlen)
     for (long i = 0; i < uuid_len; ++i) {
         unsigned char c = head[uuid_at + i];
         bool ok = (i == 8 || i == 13 || i == 18 || i == 23) ? c == '-' : isxdigit(c);
-        if (!ok) { fclose(f); return VP_OK; } // unknown layout: leave it
+        if (!ok) {
+            fclose(f);
+            return VP_OK;
+        } // unknown layout: leave it
     }
     // Two FNV-1a style 64-bit hashes of everything after the UUID, fed 8
     // bytes at a time (a byte at a time took a few tenths of a second on a
@@ -285,17 +295,22 @@ int make_deterministic(const char *path, char *err, size_t errlen)
             h2 = (h2 ^ buf[i]) * 0x100000001b3ull + 0x632be59bd9b4e019ull;
         }
     }
-    if (ferror(f)) { fclose(f); return fail(err, errlen, VP_ERR_IO, "%s: read error", path); }
+    if (ferror(f)) {
+        fclose(f);
+        return fail(err, errlen, VP_ERR_IO, "%s: read error", path);
+    }
     char hex[33];
     snprintf(hex, sizeof hex, "%016llx%016llx", (unsigned long long)h1, (unsigned long long)h2);
-    hex[12] = '4';  // looks like a version-4 UUID
+    hex[12] = '4'; // looks like a version-4 UUID
     char uuid[37];
-    snprintf(uuid, sizeof uuid, "%.8s-%.4s-%.4s-%.4s-%.12s", hex, hex + 8, hex + 12, hex + 16, hex + 20);
+    snprintf(uuid, sizeof uuid, "%.8s-%.4s-%.4s-%.4s-%.12s", hex, hex + 8, hex + 12, hex + 16,
+             hex + 20);
     if (fseek(f, uuid_at, SEEK_SET) != 0 || fwrite(uuid, 1, uuid_len, f) != (size_t)uuid_len) {
         fclose(f);
         return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
     }
-    if (fclose(f) != 0) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    if (fclose(f) != 0)
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
     return VP_OK;
 }
 
@@ -303,7 +318,7 @@ namespace {
 // Archive::write(std::ostream&, ..., seekable, ...) is protected: this gives
 // the checked writer the same format io::File writes.
 class CheckedArchive : public openvdb::io::Archive {
-public:
+  public:
     void writeTo(std::ostream &os, const openvdb::GridCPtrVec &grids,
                  const openvdb::MetaMap &meta) const
     {
@@ -316,7 +331,8 @@ int write_vdb_checked(const char *path, const openvdb::GridCPtrVec &grids,
                       const openvdb::MetaMap &meta, char *err, size_t errlen)
 {
     std::ofstream os(path, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
-    if (!os) return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
+    if (!os)
+        return fail(err, errlen, VP_ERR_IO, "%s: cannot write file (%s)", path, strerror(errno));
     CheckedArchive ar;
     if (openvdb::io::Archive::hasBloscCompression())
         ar.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
@@ -337,8 +353,14 @@ int write_vdb_checked(const char *path, const openvdb::GridCPtrVec &grids,
 
 static bool reserved_grid_key(const std::string &k)
 {
-    static const char *const keys[] = {"name", "class", "creator", "value_type", "vector_type",
-                                       "is_local_space", "is_saved_as_half_float", nullptr};
+    static const char *const keys[] = {"name",
+                                       "class",
+                                       "creator",
+                                       "value_type",
+                                       "vector_type",
+                                       "is_local_space",
+                                       "is_saved_as_half_float",
+                                       nullptr};
     for (int i = 0; keys[i]; ++i)
         if (k == keys[i]) return true;
     return k.compare(0, 5, "file_") == 0;
@@ -387,7 +409,8 @@ void refresh_levelset(vpv_levelset &ls)
             // translation is large (voxelSize() differences lose bits).
             double v = HUGE_VAL;
             for (int r = 0; r < 3; ++r)
-                v = std::min(v, std::sqrt(m(r, 0) * m(r, 0) + m(r, 1) * m(r, 1) + m(r, 2) * m(r, 2)));
+                v = std::min(v,
+                             std::sqrt(m(r, 0) * m(r, 0) + m(r, 1) * m(r, 1) + m(r, 2) * m(r, 2)));
             if (v > 0.0 && std::isfinite(v)) ls.voxel = v;
             // world points: divided by the scale (exact, a power of two)
             for (int r = 0; r < 3; ++r)

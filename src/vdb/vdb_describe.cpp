@@ -60,8 +60,9 @@ std::string jmeta(const openvdb::Metadata &m)
     // and str()'s six digits gave it another voxel size (a cube 1e-6
     // across then checked two particles 0.37 voxel outside)
     if (t == "double" || t == "float") {
-        const double v = t == "double" ? static_cast<const openvdb::DoubleMetadata &>(m).value()
-                                       : double(static_cast<const openvdb::FloatMetadata &>(m).value());
+        const double v = t == "double"
+                             ? static_cast<const openvdb::DoubleMetadata &>(m).value()
+                             : double(static_cast<const openvdb::FloatMetadata &>(m).value());
         if (!std::isfinite(v)) return "null";
         char buf[40];
         snprintf(buf, sizeof buf, t == "double" ? "%.17g" : "%.9g", v);
@@ -87,7 +88,9 @@ struct GridDesc {
     openvdb::Vec3d bmin, bmax;
     bool points = false;
     uint64_t npoints = 0;
-    struct Attr { std::string name, type, codec; };
+    struct Attr {
+        std::string name, type, codec;
+    };
     std::vector<Attr> attrs;
     std::vector<std::pair<std::string, uint64_t>> groups;
 };
@@ -97,7 +100,8 @@ GridDesc describe(const openvdb::GridBase &g)
     GridDesc d;
     d.name = g.getName();
     d.type = g.isType<vp::PointDataGrid>() ? "points" : g.valueType();
-    d.cls = g.isType<vp::PointDataGrid>() ? "points" : openvdb::GridBase::gridClassToString(g.getGridClass());
+    d.cls = g.isType<vp::PointDataGrid>() ? "points"
+                                          : openvdb::GridBase::gridClassToString(g.getGridClass());
     d.vs = g.voxelSize();
     d.active = g.activeVoxelCount();
     const openvdb::CoordBBox bb = g.evalActiveVoxelBoundingBox();
@@ -106,7 +110,8 @@ GridDesc describe(const openvdb::GridBase &g)
         d.bmin = openvdb::Vec3d(HUGE_VAL);
         d.bmax = openvdb::Vec3d(-HUGE_VAL);
         for (int c = 0; c < 8; ++c) {
-            openvdb::Vec3d ip((c & 1) ? bb.max().x() : bb.min().x(), (c & 2) ? bb.max().y() : bb.min().y(),
+            openvdb::Vec3d ip((c & 1) ? bb.max().x() : bb.min().x(),
+                              (c & 2) ? bb.max().y() : bb.min().y(),
                               (c & 4) ? bb.max().z() : bb.min().z());
             const openvdb::Vec3d w = g.indexToWorld(ip);
             for (int a = 0; a < 3; ++a) {
@@ -184,21 +189,26 @@ extern "C" int vpv_describe_file(const char *path, int json, char **out, char *e
             for (size_t i = 0; i < ds.size(); ++i) {
                 const GridDesc &d = ds[i];
                 s += i ? ",{" : "{";
-                s += "\"name\":" + jstr(d.name) + ",\"type\":" + jstr(d.type) + ",\"class\":" + jstr(d.cls);
+                s += "\"name\":" + jstr(d.name) + ",\"type\":" + jstr(d.type) +
+                     ",\"class\":" + jstr(d.cls);
                 s += ",\"voxel_size\":" + fmt(std::min(d.vs[0], std::min(d.vs[1], d.vs[2])));
-                s += ",\"voxel_size_xyz\":[" + fmt(d.vs[0]) + "," + fmt(d.vs[1]) + "," + fmt(d.vs[2]) + "]";
+                s += ",\"voxel_size_xyz\":[" + fmt(d.vs[0]) + "," + fmt(d.vs[1]) + "," +
+                     fmt(d.vs[2]) + "]";
                 s += ",\"active_voxels\":" + std::to_string(d.active);
                 if (d.has_bbox) {
-                    s += ",\"bbox_min\":[" + fmt(d.bmin[0]) + "," + fmt(d.bmin[1]) + "," + fmt(d.bmin[2]) + "]";
-                    s += ",\"bbox_max\":[" + fmt(d.bmax[0]) + "," + fmt(d.bmax[1]) + "," + fmt(d.bmax[2]) + "]";
+                    s += ",\"bbox_min\":[" + fmt(d.bmin[0]) + "," + fmt(d.bmin[1]) + "," +
+                         fmt(d.bmin[2]) + "]";
+                    s += ",\"bbox_max\":[" + fmt(d.bmax[0]) + "," + fmt(d.bmax[1]) + "," +
+                         fmt(d.bmax[2]) + "]";
                 } else {
                     s += ",\"bbox_min\":null,\"bbox_max\":null";
                 }
                 if (d.points) {
                     s += ",\"points\":" + std::to_string(d.npoints) + ",\"attributes\":[";
                     for (size_t a = 0; a < d.attrs.size(); ++a)
-                        s += (a ? ",{\"name\":" : "{\"name\":") + jstr(d.attrs[a].name) + ",\"type\":" +
-                             jstr(d.attrs[a].type) + ",\"codec\":" + jstr(d.attrs[a].codec) + "}";
+                        s += (a ? ",{\"name\":" : "{\"name\":") + jstr(d.attrs[a].name) +
+                             ",\"type\":" + jstr(d.attrs[a].type) +
+                             ",\"codec\":" + jstr(d.attrs[a].codec) + "}";
                     s += "],\"groups\":[";
                     for (size_t a = 0; a < d.groups.size(); ++a)
                         s += (a ? ",{\"name\":" : "{\"name\":") + jstr(d.groups[a].first) +
@@ -218,15 +228,16 @@ extern "C" int vpv_describe_file(const char *path, int json, char **out, char *e
                     if (it->second) s += "  " + it->first + " = " + it->second->str() + "\n";
             s += "grids: " + std::to_string(ds.size()) + "\n";
             for (const GridDesc &d : ds) {
-                s += "grid " + (d.name.empty() ? std::string("(unnamed)") : "'" + d.name + "'") + "\n";
+                s += "grid " + (d.name.empty() ? std::string("(unnamed)") : "'" + d.name + "'") +
+                     "\n";
                 s += "  type: " + d.type + "\n  class: " + d.cls + "\n";
                 s += "  voxel size: " + vs_text(d.vs) + "\n";
                 s += "  active voxels: " + std::to_string(d.active) + "\n";
                 if (d.has_bbox)
-                    s += "  bbox (world): [" + fmt(d.bmin[0]) + ", " + fmt(d.bmin[1]) + ", " + fmt(d.bmin[2]) +
-                         "] -> [" + fmt(d.bmax[0]) + ", " + fmt(d.bmax[1]) + ", " + fmt(d.bmax[2]) + "]\n";
-                else
-                    s += "  bbox (world): empty\n";
+                    s += "  bbox (world): [" + fmt(d.bmin[0]) + ", " + fmt(d.bmin[1]) + ", " +
+                         fmt(d.bmin[2]) + "] -> [" + fmt(d.bmax[0]) + ", " + fmt(d.bmax[1]) + ", " +
+                         fmt(d.bmax[2]) + "]\n";
+                else s += "  bbox (world): empty\n";
                 if (d.points) {
                     s += "  points: " + std::to_string(d.npoints) + "\n";
                     s += "  attributes:";

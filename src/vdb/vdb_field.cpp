@@ -63,8 +63,8 @@ bool first_bad_value(const openvdb::FloatGrid &g, openvdb::Coord &at, float &v)
 
 } // namespace
 
-extern "C" int vpv_field_read(const char *path, const char *grid_name, vpv_field **out,
-                              char *err, size_t errlen)
+extern "C" int vpv_field_read(const char *path, const char *grid_name, vpv_field **out, char *err,
+                              size_t errlen)
 {
     clear(err, errlen);
     if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_field_read: out is NULL");
@@ -91,17 +91,20 @@ extern "C" int vpv_field_read(const char *path, const char *grid_name, vpv_field
         if (!grids[pick]->isType<openvdb::FloatGrid>())
             return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                         "%s: grid '%s' holds %s values, not float: a field is a float grid "
-                        "(grids: %s)", path, grids[pick]->getName().c_str(),
-                        value_type_name(*grids[pick]).c_str(), list_grids(grids).c_str());
+                        "(grids: %s)",
+                        path, grids[pick]->getName().c_str(), value_type_name(*grids[pick]).c_str(),
+                        list_grids(grids).c_str());
         openvdb::GridBase::Ptr base = file.readGrid(grids[pick]->getName());
         file.close();
         openvdb::FloatGrid::Ptr g = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-        if (!g) return fail(err, errlen, VP_ERR_FORMAT, "%s: cannot read grid '%s'", path,
-                            grids[pick]->getName().c_str());
+        if (!g)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: cannot read grid '%s'", path,
+                        grids[pick]->getName().c_str());
         if (!g->transform().isLinear())
             return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                         "%s: grid '%s' has a frustum (non-linear) transform; a field needs a "
-                        "linear one", path, g->getName().c_str());
+                        "linear one",
+                        path, g->getName().c_str());
         if (g->tree().activeVoxelCount() == 0)
             return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                         "%s: grid '%s' has no active voxels: it defines no field", path,
@@ -112,14 +115,14 @@ extern "C" int vpv_field_read(const char *path, const char *grid_name, vpv_field
             if (at == openvdb::Coord::max())
                 return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                             "%s: grid '%s' has a %s background value: a field's values must "
-                            "be finite", path, g->getName().c_str(),
-                            std::isnan(bad) ? "NaN" : "infinite");
+                            "be finite",
+                            path, g->getName().c_str(), std::isnan(bad) ? "NaN" : "infinite");
             const openvdb::Vec3d w = g->transform().indexToWorld(at);
             return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                         "%s: grid '%s' has a %s value at voxel (%d, %d, %d), world (%g, %g, "
-                        "%g): a field's values must be finite", path, g->getName().c_str(),
-                        std::isnan(bad) ? "NaN" : "infinite", at.x(), at.y(), at.z(), w.x(),
-                        w.y(), w.z());
+                        "%g): a field's values must be finite",
+                        path, g->getName().c_str(), std::isnan(bad) ? "NaN" : "infinite", at.x(),
+                        at.y(), at.z(), w.x(), w.y(), w.z());
         }
         auto *f = new (std::nothrow) vpv_field;
         if (!f) return fail(err, errlen, VP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
@@ -188,7 +191,8 @@ extern "C" int vpv_field_range(const vpv_field *f, const double lo[3], const dou
             }
         }
         // the voxels a trilinear sample in [ilo, ihi] reads
-        const openvdb::CoordBBox box(openvdb::Coord::floor(ilo), openvdb::Coord::floor(ihi).offsetBy(1));
+        const openvdb::CoordBBox box(openvdb::Coord::floor(ilo),
+                                     openvdb::Coord::floor(ihi).offsetBy(1));
         double mn = HUGE_VAL, mx = -HUGE_VAL, covered = 0.0;
         for (auto it = f->grid->tree().cbeginValueAll(); it; ++it) {
             openvdb::CoordBBox b;

@@ -20,9 +20,9 @@
 struct vpv_levelset {
     openvdb::FloatGrid::Ptr grid;
     uint64_t gen = 0;
-    bool affine = false;        // world->index through w2i
-    openvdb::math::Mat4d w2i;   // row-vector convention (v * M)
-    double voxel = 1.0;         // smallest voxel edge (world)
+    bool affine = false;      // world->index through w2i
+    openvdb::math::Mat4d w2i; // row-vector convention (v * M)
+    double voxel = 1.0;       // smallest voxel edge (world)
     // World units per unit of the grid (a power of two; 1 but for meshes):
     // OpenVDB's transforms refuse voxels below about 1.44e-5 ("Non-zero
     // scale values required"), so a mesh whose voxel is outside
@@ -67,8 +67,7 @@ extern thread_local int guard_depth;
 
 // Runs f() (returning an int code) and turns any exception, and any failed
 // OpenVDB assertion on this thread, into a code.
-template <typename F>
-int guard(const char *path, Op op, char *err, size_t errlen, F &&f) noexcept
+template <typename F> int guard(const char *path, Op op, char *err, size_t errlen, F &&f) noexcept
 {
     struct depth {
         depth() { ++guard_depth; }

@@ -31,7 +31,8 @@ std::string unknown_class_note(const openvdb::GridPtrVec &grids)
         if (g && (g->isType<openvdb::FloatGrid>() || g->isType<openvdb::DoubleGrid>()) &&
             g->getGridClass() == openvdb::GRID_UNKNOWN) {
             return "; grid '" + g->getName() +
-                   "' holds floats but its class is unknown, not level set (mark it as a level set to use it)";
+                   "' holds floats but its class is unknown, not level set (mark it as a level set "
+                   "to use it)";
         }
     }
     return std::string();
@@ -119,7 +120,8 @@ int fog_to_levelset(const char *path, openvdb::FloatGrid::Ptr &f, double iso, ch
     if (!(iso > lo && iso < hi))
         return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                     "%s: --iso %g is not inside the values of grid '%s' (%g to %g): no surface "
-                    "is there", path, iso, f->getName().c_str(), lo, hi);
+                    "is there",
+                    path, iso, f->getName().c_str(), lo, hi);
     // the sweep sees active voxels only, and a fog's outside is often
     // inactive (sdfToFogVolume, Houdini's VDB from Polygons): a copy whose
     // active region reaches two voxels past the fog's gives the surface an
@@ -134,7 +136,7 @@ int fog_to_levelset(const char *path, openvdb::FloatGrid::Ptr &f, double iso, ch
     to_world_units(*sdf, f->voxelSize()[0], f->transform());
     const float bgw = float(3.0 * f->voxelSize()[0]);
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(sdf->tree());
-    leaves.foreach([bgw](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
+    leaves.foreach ([bgw](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
         for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
             const float v = leaf.getValue(i);
             if (!(v < bgw)) { // past the band outside, or never reached (+inf)
@@ -201,7 +203,8 @@ int read_levelset(const char *path, const char *grid_name, const double *iso, vp
             if (pick == grids.size() && iso)
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
                             "%s: --iso takes a fog or density grid (float, not a level set), and "
-                            "the file has none (grids: %s)", path, list_grids(grids).c_str());
+                            "the file has none (grids: %s)",
+                            path, list_grids(grids).c_str());
             if (pick == grids.size())
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
                             "%s: no float level set in the file (grids: %s)%s%s", path,
@@ -242,12 +245,13 @@ int read_levelset(const char *path, const char *grid_name, const double *iso, vp
             if (iso && is_float_level_set(g))
                 return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                             "%s: grid '%s' is a level set; --iso is for fog or density grids "
-                            "(leave it out)", path, grid_name);
+                            "(leave it out)",
+                            path, grid_name);
             if (iso && !is_float_grid(g))
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
                             "%s: grid '%s' is not a float grid (it is [%s, %s]); --iso takes a "
-                            "fog or density grid", path, grid_name, class_name(g).c_str(),
-                            value_type_name(g).c_str());
+                            "fog or density grid",
+                            path, grid_name, class_name(g).c_str(), value_type_name(g).c_str());
             if (!iso && !is_float_level_set(g))
                 return fail(err, errlen, VP_ERR_NOT_LEVEL_SET,
                             "%s: grid '%s' is not a float level set (it is [%s, %s])%s", path,
@@ -256,9 +260,9 @@ int read_levelset(const char *path, const char *grid_name, const double *iso, vp
                              (g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>()))
                                 ? "; its class is unknown: mark it as a level set to use it, or "
                                   "give --iso V to take it as a fog or density grid"
-                                : is_float_grid(g) ? "; a fog or density grid is a container with "
-                                                     "--iso V (inside where its value is at least V)"
-                                                   : "");
+                            : is_float_grid(g) ? "; a fog or density grid is a container with "
+                                                 "--iso V (inside where its value is at least V)"
+                                               : "");
         }
         // Grids sharing a name are addressed as "name[k]" by io::File.
         const std::string name = grids[pick]->getName();
@@ -270,8 +274,8 @@ int read_levelset(const char *path, const char *grid_name, const double *iso, vp
         file.close();
         openvdb::FloatGrid::Ptr fg = to_float_grid(g);
         if (!fg)
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' could not be read as a float grid",
-                        path, name.c_str());
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        "%s: grid '%s' could not be read as a float grid", path, name.c_str());
         if (iso) {
             int frc = fog_to_levelset(path, fg, *iso, err, errlen);
             if (frc != VP_OK) return frc;
@@ -293,8 +297,8 @@ namespace {
 double sample_grid(const vpv_levelset *ls, const double p[3])
 {
     openvdb::Vec3d w(p[0], p[1], p[2]);
-    openvdb::Vec3d idx = ls->affine ? ls->w2i.transform(w)
-                                    : ls->grid->transform().worldToIndex(w / ls->scale);
+    openvdb::Vec3d idx =
+        ls->affine ? ls->w2i.transform(w) : ls->grid->transform().worldToIndex(w / ls->scale);
     Acc &acc = accessor(ls);
     // Fast path: when the 8 corners lie in one 8^3 leaf (about 2/3 of
     // lookups), read them from its buffer instead of 8 accessor calls; the
@@ -373,7 +377,8 @@ extern "C" int vpv_levelset_write(const vpv_levelset *ls, const char *path, cons
                 return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                             "the level set's voxel size %g is below the smallest OpenVDB's "
                             "transforms accept (%g): a .vdb cannot hold it; scale the "
-                            "container up", ls->voxel, VP_POINTS_MIN_VOXEL);
+                            "container up",
+                            ls->voxel, VP_POINTS_MIN_VOXEL);
             openvdb::FloatGrid::Ptr w = ls->grid->deepCopy();
             const float s = float(ls->scale); // a power of two: exact
             for (auto it = w->tree().beginValueAll(); it; ++it) it.setValue(*it * s);
@@ -381,8 +386,8 @@ extern "C" int vpv_levelset_write(const vpv_levelset *ls, const char *path, cons
             const openvdb::Vec3d t =
                 ls->grid->transform().baseMap()->getAffineMap()->getMat4().getTranslation() *
                 ls->scale;
-            w->setTransform(openvdb::math::Transform::Ptr(new openvdb::math::Transform(
-                openvdb::math::MapBase::Ptr(
+            w->setTransform(openvdb::math::Transform::Ptr(
+                new openvdb::math::Transform(openvdb::math::MapBase::Ptr(
                     new openvdb::math::UniformScaleTranslateMap(ls->voxel, t)))));
             grid = w;
         }

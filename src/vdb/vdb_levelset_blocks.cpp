@@ -65,7 +65,8 @@ extern "C" int vpv_levelset_blocks(const vpv_levelset *ls, size_t max_blocks, vp
             return fail(err, errlen, VP_ERR_OUT_OF_MEMORY, "%.0f blocks, more than %zu", n,
                         max_blocks);
         float *val = static_cast<float *>(std::malloc(size_t(n) * sizeof(float)));
-        if (!val) return fail(err, errlen, VP_ERR_OUT_OF_MEMORY, "out of memory for %.0f blocks", n);
+        if (!val)
+            return fail(err, errlen, VP_ERR_OUT_OF_MEMORY, "out of memory for %.0f blocks", n);
         // Regions no node covers read the background (+, outside); then
         // every tile (inactive or not, at any level above the leaves)
         // paints the blocks it covers; then every leaf marks its block.

@@ -73,18 +73,19 @@ namespace {
 
 // The checks and the transform both voxelizations share: VP_OK and the
 // mesh's bounds, or a failure. The transform is centred on the mesh.
-int check_mesh(const double *verts, size_t nverts, const uint32_t *tris, size_t ntris,
-               double voxel, double ex_band, double in_band, double lo[3], double hi[3],
-               char *err, size_t errlen)
+int check_mesh(const double *verts, size_t nverts, const uint32_t *tris, size_t ntris, double voxel,
+               double ex_band, double in_band, double lo[3], double hi[3], char *err, size_t errlen)
 {
     if (!(voxel > 0.0) || !std::isfinite(voxel))
-        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "voxel size %g is not a positive number", voxel);
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "voxel size %g is not a positive number",
+                    voxel);
     if (!(ex_band >= 1.0) || !(in_band >= 1.0) || std::isnan(ex_band) || std::isnan(in_band))
         return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
-                    "band widths must be at least 1 voxel (exterior %g, interior %g)", ex_band, in_band);
+                    "band widths must be at least 1 voxel (exterior %g, interior %g)", ex_band,
+                    in_band);
     if (!verts || !tris || nverts == 0 || ntris == 0)
-        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "the mesh is empty (%zu vertices, %zu triangles)",
-                    nverts, ntris);
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                    "the mesh is empty (%zu vertices, %zu triangles)", nverts, ntris);
     for (int a = 0; a < 3; ++a) {
         lo[a] = HUGE_VAL;
         hi[a] = -HUGE_VAL;
@@ -93,7 +94,8 @@ int check_mesh(const double *verts, size_t nverts, const uint32_t *tris, size_t 
         for (int a = 0; a < 3; ++a) {
             const double x = verts[3 * i + a];
             if (!std::isfinite(x))
-                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vertex %zu has a non-finite coordinate", i);
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                            "vertex %zu has a non-finite coordinate", i);
             if (x < lo[a]) lo[a] = x;
             if (x > hi[a]) hi[a] = x;
         }
@@ -108,7 +110,8 @@ int check_mesh(const double *verts, size_t nverts, const uint32_t *tris, size_t 
         const double dim = (hi[a] - lo[a]) / voxel;
         if (dim > 100000.0)
             return fail(err, errlen, VP_ERR_OUT_OF_MEMORY,
-                        "the mesh is %.0f voxels along %c at voxel size %g (limit 100000): use a larger voxel",
+                        "the mesh is %.0f voxels along %c at voxel size %g (limit 100000): use a "
+                        "larger voxel",
                         dim, axes[a], voxel);
     }
     return VP_OK;
@@ -118,9 +121,8 @@ int check_mesh(const double *verts, size_t nverts, const uint32_t *tris, size_t 
 // stays exactly `voxel` with a large translation.
 openvdb::math::Transform::Ptr centred_transform(double voxel, const double c[3])
 {
-    return openvdb::math::Transform::Ptr(new openvdb::math::Transform(
-        openvdb::math::MapBase::Ptr(new openvdb::math::UniformScaleTranslateMap(
-            voxel, openvdb::Vec3d(c[0], c[1], c[2])))));
+    return openvdb::math::Transform::Ptr(new openvdb::math::Transform(openvdb::math::MapBase::Ptr(
+        new openvdb::math::UniformScaleTranslateMap(voxel, openvdb::Vec3d(c[0], c[1], c[2])))));
 }
 
 // The scale a mesh is voxelized at (vpv_levelset::scale): 1 for voxels in
@@ -158,7 +160,7 @@ struct ScaledWinding {
 float band_float(double band)
 {
     return band >= double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::max()
-                                                              : float(band);
+                                                             : float(band);
 }
 
 std::unique_ptr<vpv_levelset> wrap(openvdb::FloatGrid::Ptr g, double scale)
@@ -180,14 +182,18 @@ extern "C" int vpv_levelset_from_mesh(const double *verts, size_t nverts, const 
                                       vpv_levelset **out, char *err, size_t errlen)
 {
     clear(err, errlen);
-    if (!out) return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh: out is NULL");
+    if (!out)
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh: out is NULL");
     *out = nullptr;
     double lo[3], hi[3];
     int rc = check_mesh(verts, nverts, tris, ntris, voxel, ex_band, in_band, lo, hi, err, errlen);
     if (rc != VP_OK) return rc;
     vpv_init();
     return guard(nullptr, Op::Compute, err, errlen, [&]() -> int {
-        CentredMesh mesh{verts, nverts, tris, ntris,
+        CentredMesh mesh{verts,
+                         nverts,
+                         tris,
+                         ntris,
                          {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])},
                          1.0 / voxel};
         const double s = grid_scale(voxel), cs[3] = {mesh.c[0] / s, mesh.c[1] / s, mesh.c[2] / s};
@@ -233,19 +239,20 @@ void sign_leaves(openvdb::FloatTree &tree, openvdb::FloatTree &wtree,
                  CallbackInterrupter &interrupter)
 {
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
-    tbb::parallel_for(leaves.leafRange(), [&](openvdb::tree::LeafManager<openvdb::FloatTree>::LeafRange &r) {
-        std::vector<double> w(Leaf::SIZE);
-        for (auto leaf = r.begin(); leaf; ++leaf) {
-            if (interrupter.wasInterrupted()) return;
-            leaf_winding(*leaf, xf, winding, w.data());
-            Leaf *wl = wtree.probeLeaf(leaf->origin());
-            for (openvdb::Index i = 0; i < Leaf::SIZE; ++i) {
-                const float v = std::fabs(leaf->getValue(i));
-                leaf->setValueOnly(i, w[i] >= 0.5 ? -v : v);
-                if (wl) wl->setValueOnly(i, float(w[i]));
-            }
-        }
-    });
+    tbb::parallel_for(leaves.leafRange(),
+                      [&](openvdb::tree::LeafManager<openvdb::FloatTree>::LeafRange &r) {
+                          std::vector<double> w(Leaf::SIZE);
+                          for (auto leaf = r.begin(); leaf; ++leaf) {
+                              if (interrupter.wasInterrupted()) return;
+                              leaf_winding(*leaf, xf, winding, w.data());
+                              Leaf *wl = wtree.probeLeaf(leaf->origin());
+                              for (openvdb::Index i = 0; i < Leaf::SIZE; ++i) {
+                                  const float v = std::fabs(leaf->getValue(i));
+                                  leaf->setValueOnly(i, w[i] >= 0.5 ? -v : v);
+                                  if (wl) wl->setValueOnly(i, float(w[i]));
+                              }
+                          }
+                      });
 }
 
 // Step 3: the film across the holes, the surface where the winding number
@@ -260,7 +267,8 @@ void sign_leaves(openvdb::FloatTree &tree, openvdb::FloatTree &wtree,
 std::vector<openvdb::Coord> add_film(openvdb::FloatTree &tree, openvdb::FloatTree &wtree,
                                      const openvdb::math::Transform &xf, double band,
                                      const double *boxes, size_t nboxes,
-                                     const vpv_winding_ops &winding, CallbackInterrupter &interrupter)
+                                     const vpv_winding_ops &winding,
+                                     CallbackInterrupter &interrupter)
 {
     using openvdb::Coord;
     const int B = LEAF_DIM, reach = int(std::ceil(band / B)) + 1;
@@ -282,15 +290,17 @@ std::vector<openvdb::Coord> add_film(openvdb::FloatTree &tree, openvdb::FloatTre
         std::vector<double> w(n);
         // the corners lie far apart: one at a time (a batch would find
         // nothing far from all of them)
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
-            for (size_t i = r.begin(); i < r.end(); ++i) {
-                const Coord ijk(c0.x() + B * int(i % size_t(nx)), c0.y() + B * int((i / size_t(nx)) % size_t(ny)),
-                                c0.z() + B * int(i / (size_t(nx) * size_t(ny))));
-                const openvdb::Vec3d p = xf.indexToWorld(ijk);
-                const double q[3] = {p[0], p[1], p[2]};
-                winding.points(winding.user, q, 1, &w[i]);
-            }
-        });
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
+                          [&](const tbb::blocked_range<size_t> &r) {
+                              for (size_t i = r.begin(); i < r.end(); ++i) {
+                                  const Coord ijk(c0.x() + B * int(i % size_t(nx)),
+                                                  c0.y() + B * int((i / size_t(nx)) % size_t(ny)),
+                                                  c0.z() + B * int(i / (size_t(nx) * size_t(ny))));
+                                  const openvdb::Vec3d p = xf.indexToWorld(ijk);
+                                  const double q[3] = {p[0], p[1], p[2]};
+                                  winding.points(winding.user, q, 1, &w[i]);
+                              }
+                          });
         auto in = [&](int x, int y, int z) {
             return w[size_t(x) + size_t(nx) * (size_t(y) + size_t(ny) * size_t(z))] >= 0.5;
         };
@@ -319,17 +329,18 @@ std::vector<openvdb::Coord> add_film(openvdb::FloatTree &tree, openvdb::FloatTre
         origins.push_back(fresh.back().first->origin());
     }
     const float bg = std::fabs(tree.background());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, fresh.size(), 1), [&](const tbb::blocked_range<size_t> &r) {
-        std::vector<double> w(Leaf::SIZE);
-        for (size_t k = r.begin(); k < r.end(); ++k) {
-            Leaf &leaf = *fresh[k].first, &wl = *fresh[k].second;
-            leaf_winding(leaf, xf, winding, w.data());
-            for (openvdb::Index i = 0; i < Leaf::SIZE; ++i) {
-                leaf.setValueOn(i, w[i] >= 0.5 ? -bg : bg);
-                wl.setValueOn(i, float(w[i]));
-            }
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, fresh.size(), 1),
+                      [&](const tbb::blocked_range<size_t> &r) {
+                          std::vector<double> w(Leaf::SIZE);
+                          for (size_t k = r.begin(); k < r.end(); ++k) {
+                              Leaf &leaf = *fresh[k].first, &wl = *fresh[k].second;
+                              leaf_winding(leaf, xf, winding, w.data());
+                              for (openvdb::Index i = 0; i < Leaf::SIZE; ++i) {
+                                  leaf.setValueOn(i, w[i] >= 0.5 ? -bg : bg);
+                                  wl.setValueOn(i, float(w[i]));
+                              }
+                          }
+                      });
     return origins;
 }
 
@@ -339,15 +350,15 @@ std::vector<openvdb::Coord> add_film(openvdb::FloatTree &tree, openvdb::FloatTre
 // nearer) lie across the film; each takes its distance to where the
 // winding number, linear along the segment, crosses 0.5, if that is
 // nearer than what it holds. Returns the origins of the leaves that changed.
-std::vector<openvdb::Coord> film_crossings(openvdb::FloatTree &tree, const openvdb::FloatTree &wtree,
-                                           double voxel)
+std::vector<openvdb::Coord> film_crossings(openvdb::FloatTree &tree,
+                                           const openvdb::FloatTree &wtree, double voxel)
 {
     using openvdb::Coord;
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree, /*auxBuffersPerLeaf=*/1);
     leaves.syncAllBuffers(); // buffer 1: the values before this step
     std::vector<char> changed(leaves.leafCount(), 0);
     const float h = float(voxel);
-    leaves.foreach([&](Leaf &leaf, size_t idx) {
+    leaves.foreach ([&](Leaf &leaf, size_t idx) {
         openvdb::tree::ValueAccessor<const openvdb::FloatTree> acc(tree), wacc(wtree);
         const auto &before = leaves.getBuffer(idx, 1);
         size_t n = 0;
@@ -408,11 +419,10 @@ void sweep_film(openvdb::FloatGrid &g, double voxel, std::vector<openvdb::Coord>
     std::sort(near.begin(), near.end(), coord_less);
     near.erase(std::unique(near.begin(), near.end()), near.end());
     openvdb::tree::LeafManager<openvdb::FloatTree> all(tree);
-    all.foreach([&](Leaf &leaf, size_t) {
+    all.foreach ([&](Leaf &leaf, size_t) {
         if (std::binary_search(near.begin(), near.end(), leaf.origin(), coord_less))
             leaf.setValuesOn();
-        else
-            leaf.setValuesOff();
+        else leaf.setValuesOff();
     });
     // (in voxel units: see in_voxel_units)
     openvdb::FloatGrid::Ptr swept = openvdb::tools::sdfToSdf(*in_voxel_units(g, true), 0.0f, 1);
@@ -420,7 +430,7 @@ void sweep_film(openvdb::FloatGrid &g, double voxel, std::vector<openvdb::Coord>
     to_world_units(*swept, g.voxelSize()[0], g.transform());
     const openvdb::FloatTree &st = swept->tree();
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
-    leaves.foreach([&](Leaf &dst, size_t) {
+    leaves.foreach ([&](Leaf &dst, size_t) {
         const Leaf *src = st.probeConstLeaf(dst.origin());
         if (!src) return;
         for (openvdb::Index i = 0; i < Leaf::SIZE; ++i) {
@@ -433,7 +443,7 @@ void sweep_film(openvdb::FloatGrid &g, double voxel, std::vector<openvdb::Coord>
         }
     });
     // active again as a narrow band's voxels are: within the band
-    all.foreach([bg](Leaf &leaf, size_t) {
+    all.foreach ([bg](Leaf &leaf, size_t) {
         for (openvdb::Index i = 0; i < Leaf::SIZE; ++i)
             leaf.setActiveState(i, std::fabs(leaf.getValue(i)) < bg);
     });
@@ -459,12 +469,13 @@ void sign_tiles(openvdb::FloatTree &tree, const openvdb::math::Transform &xf,
         }
     }
     std::vector<double> w(centres.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) {
-            const double p[3] = {centres[i][0], centres[i][1], centres[i][2]};
-            winding.points(winding.user, p, 1, &w[i]);
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 64),
+                      [&](const tbb::blocked_range<size_t> &r) {
+                          for (size_t i = r.begin(); i < r.end(); ++i) {
+                              const double p[3] = {centres[i][0], centres[i][1], centres[i][2]};
+                              winding.points(winding.user, p, 1, &w[i]);
+                          }
+                      });
     const float bg = std::fabs(tree.background());
     size_t i = 0;
     auto tile = tree.beginValueAll();
@@ -477,21 +488,25 @@ void sign_tiles(openvdb::FloatTree &tree, const openvdb::math::Transform &xf,
 extern "C" int vpv_levelset_from_mesh_winding(const double *verts, size_t nverts,
                                               const uint32_t *tris, size_t ntris, double voxel,
                                               double ex_band, double in_band,
-                                              const vpv_winding_ops *winding,
-                                              const double *holes, size_t nholes,
-                                              int (*keep_going)(void *user), void *user,
-                                              vpv_levelset **out, char *err, size_t errlen)
+                                              const vpv_winding_ops *winding, const double *holes,
+                                              size_t nholes, int (*keep_going)(void *user),
+                                              void *user, vpv_levelset **out, char *err,
+                                              size_t errlen)
 {
     clear(err, errlen);
     if (!out || !winding || !winding->points || !winding->block)
-        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_from_mesh_winding: NULL argument");
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                    "vpv_levelset_from_mesh_winding: NULL argument");
     *out = nullptr;
     double lo[3], hi[3];
     int rc = check_mesh(verts, nverts, tris, ntris, voxel, ex_band, in_band, lo, hi, err, errlen);
     if (rc != VP_OK) return rc;
     vpv_init();
     return guard(nullptr, Op::Compute, err, errlen, [&]() -> int {
-        CentredMesh mesh{verts, nverts, tris, ntris,
+        CentredMesh mesh{verts,
+                         nverts,
+                         tris,
+                         ntris,
                          {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])},
                          1.0 / voxel};
         // in the grid's units (grid_scale): the transform, the voxel, the

@@ -157,7 +157,7 @@ void keep_signs(const openvdb::FloatGrid &orig, openvdb::FloatGrid &rebuilt)
 {
     openvdb::FloatTree &t = rebuilt.tree();
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(t);
-    leaves.foreach([&](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
+    leaves.foreach ([&](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
         openvdb::tree::ValueAccessor<const openvdb::FloatTree> acc(orig.tree());
         for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
             const float o = acc.getValue(leaf.offsetToGlobalCoord(i)), v = leaf.getValue(i);
@@ -192,7 +192,7 @@ void deepen_inside(openvdb::FloatGrid &g)
     const float deepest = openvdb::tools::minMax(t).min();
     if (!(deepest < 0.0f)) return;
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(t);
-    leaves.foreach([deepest](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
+    leaves.foreach ([deepest](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
         for (auto it = leaf.beginValueOff(); it; ++it)
             if (*it < 0.0f && *it > deepest) it.setValue(deepest);
     });
@@ -228,8 +228,9 @@ void band_widths(const vpv_levelset &ls, double in_depth, double &want, double &
 // Every value of g (voxels and tiles, active or not) and its background times f.
 void scale_values(openvdb::FloatGrid &g, float f)
 {
-    openvdb::tools::foreach(g.tree().beginValueAll(),
-                            [f](const openvdb::FloatTree::ValueAllIter &it) { it.setValue(*it * f); });
+    openvdb::tools::foreach (
+        g.tree().beginValueAll(),
+        [f](const openvdb::FloatTree::ValueAllIter &it) { it.setValue(*it * f); });
     g.tree().root().setBackground(g.tree().background() * f, /*updateChildNodes=*/false);
 }
 
@@ -254,7 +255,8 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
 {
     clear(err, errlen);
     if (!ls || !ls->grid)
-        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "vpv_levelset_ensure_interior: no level set");
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                    "vpv_levelset_ensure_interior: no level set");
     if (std::isnan(in_depth))
         return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "interior depth is not a number");
     vpv_init();
@@ -291,13 +293,13 @@ extern "C" int vpv_levelset_ensure_interior(vpv_levelset *ls, double in_depth, c
             tile.setMaxDepth(openvdb::FloatTree::ValueOnIter::LEAF_DEPTH - 1);
             for (; tile; ++tile) tile.setActiveState(false);
         }
-        openvdb::FloatGrid::Ptr ng = openvdb::tools::dilateSdf(
-            *work, more, openvdb::tools::NN_FACE, 1,
-            openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
+        openvdb::FloatGrid::Ptr ng =
+            openvdb::tools::dilateSdf(*work, more, openvdb::tools::NN_FACE, 1,
+                                      openvdb::tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE);
         work.reset();
         if (!ng)
-            return fail(err, errlen, VP_ERR_INTERNAL, "level set '%s': the sweep that widens its band failed",
-                        name.c_str());
+            return fail(err, errlen, VP_ERR_INTERNAL,
+                        "level set '%s': the sweep that widens its band failed", name.c_str());
         to_world_units(*ng, g.voxelSize()[0], g.transform());
         keep_signs(g, *ng);
         deepen_inside(*ng);
@@ -384,8 +386,9 @@ extern "C" void vpv_levelset_get_info(const vpv_levelset *ls, vpv_levelset_info 
             info->volume = heaviside_volume(g) * vs[0] * vs[1] * vs[2] * s3;
         } else {
             try {
-                info->volume = std::max(info->volume,
-                                        double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)) * s3);
+                info->volume = std::max(
+                    info->volume,
+                    double(openvdb::tools::levelSetVolume(g, /*useWorldSpace=*/true)) * s3);
             } catch (...) {
                 // (non-cubic voxels and the like: the inside voxels' volume stands)
             }

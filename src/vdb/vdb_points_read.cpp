@@ -38,7 +38,10 @@ struct Owner {
 // users, as the library's shape functions refuse one out of range).
 bool shape_text(const std::string &t, vp_shape &out, double &param)
 {
-    if (t == "mesh" || t.compare(0, 5, "mesh:") == 0) { out = VP_SHAPE_MESH; return true; }
+    if (t == "mesh" || t.compare(0, 5, "mesh:") == 0) {
+        out = VP_SHAPE_MESH;
+        return true;
+    }
     if (t.compare(0, 10, "superball:") == 0) {
         char *end = nullptr;
         const char *v = t.c_str() + 10;
@@ -49,7 +52,10 @@ bool shape_text(const std::string &t, vp_shape &out, double &param)
         return true;
     }
     for (int i = 0; i < VP_SHAPE_COUNT; ++i)
-        if (t == kShapeNames[i]) { out = vp_shape(i); return true; }
+        if (t == kShapeNames[i]) {
+            out = vp_shape(i);
+            return true;
+        }
     return false;
 }
 
@@ -57,7 +63,10 @@ bool shape_from(const openvdb::MetaMap &m, vp_shape &out, double &param)
 {
     openvdb::StringMetadata::ConstPtr s = m.getMetadata<openvdb::StringMetadata>("shape");
     if (!s) return false;
-    if (s->value() == "mixed") { out = VP_SHAPE_MIXED; return true; }
+    if (s->value() == "mixed") {
+        out = VP_SHAPE_MIXED;
+        return true;
+    }
     if (s->value().compare(0, 5, "mesh:") == 0) return false; // only "mesh" names the one shape
     return shape_text(s->value(), out, param);
 }
@@ -107,15 +116,20 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
         const openvdb::GridPtrVec &grids = *metas;
         size_t pick = grids.size();
         for (size_t i = 0; i < grids.size(); ++i)
-            if (grids[i] && grids[i]->isType<vp::PointDataGrid>() && grids[i]->getName() == "points") {
+            if (grids[i] && grids[i]->isType<vp::PointDataGrid>() &&
+                grids[i]->getName() == "points") {
                 pick = i;
                 break;
             }
         if (pick == grids.size())
             for (size_t i = 0; i < grids.size(); ++i)
-                if (grids[i] && grids[i]->isType<vp::PointDataGrid>()) { pick = i; break; }
+                if (grids[i] && grids[i]->isType<vp::PointDataGrid>()) {
+                    pick = i;
+                    break;
+                }
         if (pick == grids.size())
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: no point data grid in the file (grids: %s)", path,
+            return fail(err, errlen, VP_ERR_FORMAT,
+                        "%s: no point data grid in the file (grids: %s)", path,
                         list_grids(grids).c_str());
         const std::string name = grids[pick]->getName();
         int dup = 0;
@@ -126,7 +140,9 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
         openvdb::MetaMap::Ptr fmeta = file.getMetadata();
         file.close();
         vp::PointDataGrid::Ptr grid = openvdb::gridPtrCast<vp::PointDataGrid>(base);
-        if (!grid) return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' is not a point data grid", path, name.c_str());
+        if (!grid)
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' is not a point data grid", path,
+                        name.c_str());
         const vp::PointDataTree &tree = grid->constTree();
         const openvdb::math::Transform &xf = grid->transform();
 
@@ -144,10 +160,12 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
             P.shape = sh;
             P.shape_param = sh == VP_SHAPE_SUPERBALL ? shp : 0.0;
         }
-        if (P.shape == VP_SHAPE_MIXED && !shapes_from(*grid, P) && !(fmeta && shapes_from(*fmeta, P)))
+        if (P.shape == VP_SHAPE_MIXED && !shapes_from(*grid, P) &&
+            !(fmeta && shapes_from(*fmeta, P)))
             return fail(err, errlen, VP_ERR_FORMAT,
                         "%s: grid '%s' says shape \"mixed\" but its \"shapes\" metadata is missing "
-                        "or names an unknown shape", path, name.c_str());
+                        "or names an unknown shape",
+                        path, name.c_str());
 
         auto leaf0 = tree.cbeginLeaf();
         const size_t count = leaf0 ? size_t(vp::pointCount(tree)) : 0;
@@ -160,11 +178,13 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
         const size_t NONE = vp::AttributeSet::INVALID_POS;
         const size_t iP = desc.find("P");
         if (iP == NONE || desc.valueType(iP) != openvdb::typeNameAsString<openvdb::Vec3f>())
-            return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' has no vec3s P attribute", path, name.c_str());
+            return fail(err, errlen, VP_ERR_FORMAT, "%s: grid '%s' has no vec3s P attribute", path,
+                        name.c_str());
         size_t iR = desc.find("pscale");
         if (iR != NONE && desc.valueType(iR) != openvdb::typeNameAsString<float>()) iR = NONE;
         size_t iO = desc.find("orient");
-        if (iO != NONE && desc.valueType(iO) != openvdb::typeNameAsString<openvdb::math::Quats>()) iO = NONE;
+        if (iO != NONE && desc.valueType(iO) != openvdb::typeNameAsString<openvdb::math::Quats>())
+            iO = NONE;
         size_t iI = desc.find("id");
         const bool id32 = iI != NONE && desc.valueType(iI) == openvdb::typeNameAsString<int32_t>();
         const bool id64 = iI != NONE && desc.valueType(iI) == openvdb::typeNameAsString<int64_t>();
@@ -172,9 +192,11 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
         size_t iS = desc.find("shape");
         if (P.shape == VP_SHAPE_MIXED) {
             if (iS == NONE || desc.valueType(iS) != openvdb::typeNameAsString<int32_t>())
-                return fail(err, errlen, VP_ERR_FORMAT,
-                            "%s: grid '%s' is a packing of several shapes without an int32 \"shape\" "
-                            "attribute", path, name.c_str());
+                return fail(
+                    err, errlen, VP_ERR_FORMAT,
+                    "%s: grid '%s' is a packing of several shapes without an int32 \"shape\" "
+                    "attribute",
+                    path, name.c_str());
             P.shape_index = static_cast<uint8_t *>(malloc(count));
             if (!P.shape_index) throw std::bad_alloc();
         }
@@ -189,16 +211,23 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
             for (auto leaf = tree.cbeginLeaf(); leaf && ok; ++leaf) {
                 std::unique_ptr<vp::AttributeHandle<int32_t>> h32;
                 std::unique_ptr<vp::AttributeHandle<int64_t>> h64;
-                if (id32) h32.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray(iI)));
+                if (id32)
+                    h32.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray(iI)));
                 else h64.reset(new vp::AttributeHandle<int64_t>(leaf->constAttributeArray(iI)));
                 for (auto idx = leaf->beginIndexAll(); idx; ++idx, ++k) {
                     const int64_t id = h32 ? int64_t(h32->get(*idx)) : h64->get(*idx);
-                    if (k >= count || id < 0 || uint64_t(id) >= count || seen[size_t(id)]) { ok = false; break; }
+                    if (k >= count || id < 0 || uint64_t(id) >= count || seen[size_t(id)]) {
+                        ok = false;
+                        break;
+                    }
                     seen[size_t(id)] = true;
                     dest[k] = size_t(id);
                 }
             }
-            if (!ok || k != count) { dest.clear(); dest.shrink_to_fit(); }
+            if (!ok || k != count) {
+                dest.clear();
+                dest.shrink_to_fit();
+            }
         }
 
         // Groups in descriptor (offset) order, at most VP_MAX_GROUPS.
@@ -232,9 +261,12 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
             std::unique_ptr<vp::AttributeHandle<float>> hr;
             std::unique_ptr<vp::AttributeHandle<openvdb::math::Quats>> ho;
             if (iR != NONE) hr.reset(new vp::AttributeHandle<float>(leaf->constAttributeArray(iR)));
-            if (iO != NONE) ho.reset(new vp::AttributeHandle<openvdb::math::Quats>(leaf->constAttributeArray(iO)));
+            if (iO != NONE)
+                ho.reset(
+                    new vp::AttributeHandle<openvdb::math::Quats>(leaf->constAttributeArray(iO)));
             std::unique_ptr<vp::AttributeHandle<int32_t>> hs;
-            if (P.shape_index) hs.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray(iS)));
+            if (P.shape_index)
+                hs.reset(new vp::AttributeHandle<int32_t>(leaf->constAttributeArray(iS)));
             std::vector<vp::GroupHandle> gh;
             for (const auto &g : gs) gh.push_back(leaf->groupHandle(g.second));
             for (auto idx = leaf->beginIndexAll(); idx; ++idx, ++k) {
@@ -250,8 +282,8 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
                     const int32_t v = hs->get(*idx);
                     if (v < 0 || unsigned(v) >= P.shape_count)
                         return fail(err, errlen, VP_ERR_FORMAT,
-                                    "%s: point %zu has shape %d, but the file names %u shapes", path,
-                                    d, int(v), P.shape_count);
+                                    "%s: point %zu has shape %d, but the file names %u shapes",
+                                    path, d, int(v), P.shape_count);
                     P.shape_index[d] = uint8_t(v);
                 }
                 if (ho) {
@@ -259,7 +291,10 @@ extern "C" int vpv_points_read(const char *path, vp_particles **out, char *err, 
                     for (int c = 0; c < 4; ++c) P.orients[4 * d + c] = q[c];
                 }
                 for (size_t g = 0; g < gh.size(); ++g)
-                    if (gh[g].get(*idx)) { P.groups[d] = uint16_t(g); break; }
+                    if (gh[g].get(*idx)) {
+                        P.groups[d] = uint16_t(g);
+                        break;
+                    }
             }
         }
         P.count = P.capacity = std::min(k, count);

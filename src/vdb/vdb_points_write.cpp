@@ -49,8 +49,7 @@ struct ShapeIndex {
     void get(int32_t &v, size_t n, openvdb::Index) const { v = k[n]; }
 };
 
-template <typename T>
-struct Ids {
+template <typename T> struct Ids {
     using value_type = T;
     void get(T &v, size_t n) const { v = T(n); }
     void get(T &v, size_t n, openvdb::Index) const { v = T(n); }
@@ -119,7 +118,8 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
     const int full = params ? params->full_precision : 0;
     const int ppv_in = params ? params->points_per_voxel : 0;
     if (ppv_in < 0)
-        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "points per voxel %d is negative", ppv_in);
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "points per voxel %d is negative",
+                    ppv_in);
     const uint32_t ppv = ppv_in > 0 ? uint32_t(ppv_in) : 8u;
     const vp_meta *meta = params ? params->meta : nullptr;
     const size_t meta_count = params ? params->meta_count : 0;
@@ -127,7 +127,8 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
     // Validate everything before touching OpenVDB.
     const unsigned ngroups = p->group_count;
     if (ngroups > VP_MAX_GROUPS)
-        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%u groups (at most %d)", ngroups, VP_MAX_GROUPS);
+        return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "%u groups (at most %d)", ngroups,
+                    VP_MAX_GROUPS);
     std::vector<std::string> gnames;
     {
         std::set<std::string> seen;
@@ -135,9 +136,11 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
             std::string s(p->group_names[g], strnlen(p->group_names[g], VP_GROUP_NAME_MAX));
             if (s.empty() || !vp::AttributeSet::Descriptor::validName(s))
                 return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
-                            "group %u: name '%s' is not valid (letters, digits, _ | : only)", g, s.c_str());
+                            "group %u: name '%s' is not valid (letters, digits, _ | : only)", g,
+                            s.c_str());
             if (!seen.insert(s).second)
-                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "group name '%s' is used twice", s.c_str());
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "group name '%s' is used twice",
+                            s.c_str());
             gnames.push_back(s);
         }
     }
@@ -146,7 +149,8 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
     for (size_t i = 0; i < 3 * count; ++i) {
         const double x = p->positions[i];
         if (!std::isfinite(x))
-            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu has a non-finite position", i / 3);
+            return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                        "particle %zu has a non-finite position", i / 3);
         maxabs = std::max(maxabs, std::fabs(x));
         lo[i % 3] = std::min(lo[i % 3], x);
         hi[i % 3] = std::max(hi[i % 3], x);
@@ -167,8 +171,9 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
     if (p->groups && ngroups > 0)
         for (size_t i = 0; i < count; ++i)
             if (p->groups[i] >= ngroups)
-                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT, "particle %zu is in group %u of %u", i,
-                            (unsigned)p->groups[i], ngroups);
+                return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
+                            "particle %zu is in group %u of %u", i, (unsigned)p->groups[i],
+                            ngroups);
 
     if (p->shape == VP_SHAPE_MIXED) {
         if (!p->shape_index || p->shape_count < 1 || p->shape_count > VP_MAX_SHAPES)
@@ -216,8 +221,9 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
                                 "radius %g is too small for a .vdb with coordinates up to %g: it "
                                 "stores them only to within %.3g, more than %g of the radius "
                                 "(radii from %.3g fit); move the scene near the origin, or write "
-                                ".csv", rmin, maxabs, vpv_points_error(vmin, 1),
-                                VP_POSITION_ERROR_LIMIT, least);
+                                ".csv",
+                                rmin, maxabs, vpv_points_error(vmin, 1), VP_POSITION_ERROR_LIMIT,
+                                least);
                 return fail(err, errlen, VP_ERR_INVALID_ARGUMENT,
                             "radius %g is too small for a .vdb: OpenVDB's smallest voxel (%.4g) "
                             "stores positions only to within %.3g, more than %g of the radius "
@@ -230,7 +236,8 @@ extern "C" int vpv_points_write(const char *path, const vp_particles *p,
         const uint64_t max_bytes = params ? params->max_memory : 0;
         if (max_bytes > 0) {
             const double leaves = double(leaf_count(pos, lo, hi, voxel, double(max_bytes)));
-            const double bytes = leaves * VPV_POINTS_LEAF_BYTES + double(count) * VPV_POINTS_POINT_BYTES;
+            const double bytes =
+                leaves * VPV_POINTS_LEAF_BYTES + double(count) * VPV_POINTS_POINT_BYTES;
             if (bytes > double(max_bytes)) {
                 char need[32], lim[32];
                 format_bytes(bytes, need, sizeof need);

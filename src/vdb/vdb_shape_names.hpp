@@ -7,12 +7,25 @@
 #include "vdbpack/vdbpack.h"
 
 namespace vpv {
-inline constexpr const char *kShapeNames[] = {
-    "sphere", "tetrahedron", "cube", "octahedron", "dodecahedron", "icosahedron",
-    "truncated-tetrahedron", "cuboctahedron", "truncated-cube", "truncated-octahedron",
-    "rhombicuboctahedron", "truncated-cuboctahedron", "snub-cube", "icosidodecahedron",
-    "truncated-dodecahedron", "truncated-icosahedron", "rhombicosidodecahedron",
-    "truncated-icosidodecahedron", "snub-dodecahedron"};
+inline constexpr const char *kShapeNames[] = {"sphere",
+                                              "tetrahedron",
+                                              "cube",
+                                              "octahedron",
+                                              "dodecahedron",
+                                              "icosahedron",
+                                              "truncated-tetrahedron",
+                                              "cuboctahedron",
+                                              "truncated-cube",
+                                              "truncated-octahedron",
+                                              "rhombicuboctahedron",
+                                              "truncated-cuboctahedron",
+                                              "snub-cube",
+                                              "icosidodecahedron",
+                                              "truncated-dodecahedron",
+                                              "truncated-icosahedron",
+                                              "rhombicosidodecahedron",
+                                              "truncated-icosidodecahedron",
+                                              "snub-dodecahedron"};
 static_assert(sizeof kShapeNames / sizeof kShapeNames[0] == VP_SHAPE_COUNT, "one name per shape");
 } // namespace vpv
 #endif

@@ -10,14 +10,14 @@
 #include <stdio.h>
 #include <string.h>
 
-#define CHECK(call)                                                                         \
-    do {                                                                                    \
-        vp_result r_ = (call);                                                              \
-        if (r_ != VP_OK) {                                                                  \
-            fprintf(stderr, "consumer-c: %s: %s: %s\n", #call, vp_result_name(r_),          \
-                    vp_context_message(ctx));                                               \
-            return 1;                                                                       \
-        }                                                                                   \
+#define CHECK(call)                                                                                \
+    do {                                                                                           \
+        vp_result r_ = (call);                                                                     \
+        if (r_ != VP_OK) {                                                                         \
+            fprintf(stderr, "consumer-c: %s: %s: %s\n", #call, vp_result_name(r_),                 \
+                    vp_context_message(ctx));                                                      \
+            return 1;                                                                              \
+        }                                                                                          \
     } while (0)
 
 int main(int argc, char **argv) {
