@@ -85,7 +85,9 @@ static int import_child(int fd, void *user)
                      name);
         }
     }
-    return vp_mesh_wire_write(fd, r, err, m) ? 3 : 0;
+    int rc = vp_mesh_wire_write(fd, r, err, m) ? 3 : 0;
+    vp_mesh_destroy(m); /* (the child exits after this: freed, not lost) */
+    return rc;
 }
 
 /* In the parent: reads the child's answer. */
