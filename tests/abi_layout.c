@@ -115,6 +115,8 @@ static void structs(void) {
     F(vp_lattice_params, rotations);
     F(vp_lattice_params, seed);
     F(vp_lattice_params, shape_param);
+    F(vp_lattice_params, margin);
+    F(vp_lattice_params, gap);
     printf("}");
 
     S(vp_lattice_report);

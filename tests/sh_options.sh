@@ -154,7 +154,7 @@ bad 2 "--margin must be a distance >= 0" box:1,1,1 --method rsa --radius 0.05 --
 bad 2 "and the smallest radius leave no room in box:1,1,1, whose inradius is 0.5" box:1,1,1 --method rsa --radius 0.05 --count 10 --margin 0.46 -o bad.csv
 bad 2 "--margin 0.5 leaves no room in sphere:0.5, whose inradius is 0.5" sphere:0.5 --method rsa --radius 0.05 --count 10 --margin 0.5 --fit center -o bad.csv
 bad 1 "margin" "$P" --method rsa --radius 0.05 --count 10 --margin 0.8 -o bad.csv
-bad 2 "--margin goes with --method rsa, relax and jam, not lattice" box:1,1,1 --radius 0.05 --margin 0.1 -o bad.csv
+bad 2 "--gap spaces a lattice of spheres in this version" box:1,1,1 --shape cube --radius 0.05 --gap 0.01 -o bad.csv
 bad 2 "not mesh shapes (--margin is)" box:1,1,1 --method rsa --shape "$P" --radius 0.05 --count 10 --gap 0.01 -o bad.csv
 bad 2 "not with --overlap bbox" box:1,1,1 --method rsa --shape cube --overlap bbox --radius 0.05 --count 10 --gap 0.01 -o bad.csv
 echo "=== a value that looks like an abbreviated option stays as typed"

@@ -207,8 +207,8 @@ VP_API double vp_mesh_shape_volume(const vp_mesh_shape *s);   /* at bounding rad
 VP_API double vp_mesh_shape_inradius(const vp_mesh_shape *s); /* nearest surface point from the
                                                                  centroid; 0 if it is outside */
 VP_API size_t vp_mesh_shape_triangles(const vp_mesh_shape *s);
-VP_API const char *
-vp_mesh_shape_name(const vp_mesh_shape *s); /* the file's base name; owned by s */
+/* the file's base name; owned by s */
+VP_API const char *vp_mesh_shape_name(const vp_mesh_shape *s);
 /* The same from a triangle mesh in memory (arrays as for
  * vp_container_from_mesh: 3 * vertex_count doubles, 3 * triangle_count
  * 32-bit indices, only read during the call); name (NULL = "mesh") is what
@@ -504,6 +504,12 @@ typedef struct vp_lattice_params {
     int rotations; /* orientations to try with rotate; 0 = automatic */
     uint64_t seed;
     double shape_param; /* VP_SHAPE_SUPERBALL: the exponent p */
+    double margin;      /* world distance every particle keeps from the wall
+                           (its surface with fit inside, its centre with fit
+                           center); default 0 */
+    double gap;         /* spheres: world distance between the surfaces of
+                           neighbours (the lattice spaced for radius + gap/2);
+                           default 0 */
 } vp_lattice_params;
 VP_API void vp_lattice_params_init(vp_lattice_params *p);
 

@@ -58,12 +58,12 @@ def parse_analytic(spec):
 
 
 _LOAD_KEYS = ("voxel_size", "inside", "iso", "grid", "name", "particle_radius",
-              "particle_count", "space_per_particle", "narrow_band")
+              "particle_count", "space_per_particle", "narrow_band", "extra_depth")
 
 
 def container_params(cp, keep, voxel_size=None, inside=None, iso=None, grid=None, name=None,
                      particle_radius=None, particle_count=None, space_per_particle=None,
-                     narrow_band=None, allow_open=None):
+                     narrow_band=None, allow_open=None, extra_depth=None):
     """Fills vp_container_params cp (already initialised) from keywords;
     `keep` collects the bytes that cp points to."""
     if allow_open is not None:
@@ -94,6 +94,8 @@ def container_params(cp, keep, voxel_size=None, inside=None, iso=None, grid=None
                                                positive=True)
     if narrow_band is not None:
         cp.narrow_band = 1 if narrow_band else 0
+    if extra_depth is not None:
+        cp.extra_depth = _arrays.number(extra_depth, "extra_depth", positive=True)
     return cp
 
 
@@ -191,7 +193,7 @@ class Container:
         "closed", "winding": how a mesh's inside is decided), iso (a fog or
         density grid: inside where its value >= iso), grid (the .vdb grid's
         name), particle_radius / particle_count / space_per_particle /
-        narrow_band (what the job needs of the level set, as
+        narrow_band / extra_depth (what the job needs of the level set, as
         vp_container_params; pack() sets them itself from its options when
         given a path), threads, max_memory, progress."""
         p = _arrays.path(path)

@@ -178,7 +178,8 @@ class vp_lattice_params(ctypes.Structure):
     _fields_ = [
         ("shape", _e), ("lattice", _e), ("fit", _e), ("radius", ctypes.c_double),
         ("count", ctypes.c_size_t), ("offsets", ctypes.c_int), ("rotate", ctypes.c_int),
-        ("rotations", ctypes.c_int), ("seed", ctypes.c_uint64), ("shape_param", ctypes.c_double)]
+        ("rotations", ctypes.c_int), ("seed", ctypes.c_uint64), ("shape_param", ctypes.c_double),
+        ("margin", ctypes.c_double), ("gap", ctypes.c_double)]
 
 
 class vp_lattice_report(ctypes.Structure):

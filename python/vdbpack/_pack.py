@@ -26,7 +26,7 @@ FLT_MAX = 3.4028234663852886e+38
 METHODS = ("lattice", "rsa", "relax", "jam")
 # the options of each method; the others are common to all of them
 _BY_METHOD = {
-    "lattice": ("radius", "count", "lattice", "offsets", "rotate", "rotations"),
+    "lattice": ("radius", "count", "lattice", "offsets", "rotate", "rotations", "margin", "gap"),
     "rsa": ("radius", "count", "passes", "retries", "grow", "orient", "overlap",
             "radius_field", "radius_field_mode", "density_field", "target_fraction", "margin",
             "gap"),
@@ -561,8 +561,10 @@ def _prepare(method, options):
     if gap > 0 and method == "rsa" and (shape_id is None or any(m is not None for m in pass_meshes)):
         raise ValueError("gap is kept between spheres, solids and superballs in this version, "
                          "not a mesh shape (shape=%r or a pass's mesh; margin is)" % (shape_opt,))
-    if method != "lattice":
-        params.margin, params.gap = margin, gap
+    if gap > 0 and method == "lattice" and shape_id != 0:
+        raise ValueError("gap spaces a lattice of spheres in this version, not shape=%r (rsa "
+                         "keeps a gap between any convex shapes)" % (shape_opt,))
+    params.margin, params.gap = margin, gap
     return locals()
 
 
@@ -735,8 +737,9 @@ def pack(container, method="lattice", **options):
       count (N or "max") and grow, or count=N alone (the radius at which
       N fill target_fraction, default 0.3); retries; orient ("random",
       "fixed") and overlap ("exact", "bbox") for solids;
-    - rsa, relax, jam: margin and gap (world distances kept from the wall
-      and between surfaces; rsa's gap not for mesh shapes);
+    - every method: margin and gap (world distances kept from the wall and
+      between surfaces; rsa's gap not for mesh shapes, lattice's for
+      spheres only);
     - relax: radius (a number or a distribution), count, target_fraction,
       tolerance, max_sweeps;
     - fields and masks (docs/fields.md): mask (all methods: a Container,

@@ -617,6 +617,7 @@ class Packing:
                 rmax = float(np.max(self.radii)) if len(self) else 0.0
                 kw["particle_radius"] = rmax if rmax > 0 else 0.0
                 kw["particle_count"] = len(self)
+                kw["extra_depth"] = cp.margin  # the wall test reads the margin deeper
                 cont = _container.Container.from_file(spec, threads=threads,
                                                       max_memory=max_memory, progress=progress,
                                                       **kw)

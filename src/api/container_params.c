@@ -18,8 +18,10 @@ void vp_container_params_for_lattice(vp_container_params *cp, const vp_lattice_p
     double f = vp_lattice_fraction_param(lp->shape, lp->shape_param, lp->lattice);
     cp->space_per_particle =
         f > 0 ? vp_shape_unit_volume_param(lp->shape, lp->shape_param) / f : 0.0;
-    /* the lattice packer reads no deeper than a particle's radius */
+    /* the lattice packer reads no deeper than a particle's radius and the
+     * margin */
     cp->narrow_band = 1;
+    cp->extra_depth = lp->margin;
 }
 
 void vp_container_params_for_rsa(vp_container_params *cp, const vp_rsa_params *rp) {

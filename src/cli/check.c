@@ -298,6 +298,7 @@ int vp_cli_check(int argc, char **argv) {
         kp.has_iso = has_iso;
         kp.iso = iso;
         kp.grid_name = grid;
+        kp.extra_depth = cp.margin; /* the wall test reads the margin deeper */
         if (vp_container_load(ctx, cont, &kp, &c) != VP_OK) {
             status = vp_cli_die(1, "%s", vp_context_message(ctx));
             goto done;

@@ -386,6 +386,8 @@ static void lattice_params(const pack_opts *o, vp_lattice_params *lp) {
     lp->rotate = o->rotate;
     lp->rotations = (int)o->rotations;
     lp->seed = o->seed;
+    lp->margin = o->margin;
+    lp->gap = o->gap;
 }
 
 static void rsa_params(const pack_opts *o, vp_rsa_params *rp) {

@@ -62,6 +62,8 @@ const char *VP_PACK_HELP =
     "                          fewer for large packings); 1 = no search\n"
     "  --rotate                also search orientations of the lattice\n"
     "  --rotations N           orientations to try (implies --rotate; default 24)\n"
+    "  --margin D, --gap G     as for rsa: every particle D from the wall; spheres\n"
+    "                          spaced G apart (the lattice of radius R + G/2)\n"
     "\n"
     "Random sequential addition (--method rsa):\n"
     "  --pass SPEC             one pass; repeat for binary, ternary, ... packings.\n"
@@ -240,6 +242,10 @@ static int check_method_options(pack_opts *o, int have_radius, int have_count) {
                               "pack: --radius: size '%s': a radius must be at most 3.4e38 "
                               "(radii are stored as float)",
                               o->radius_text);
+        if (o->gap > 0 && o->shape != VP_SHAPE_SPHERE)
+            return vp_cli_die(2, "pack: --gap spaces a lattice of spheres in this version, not "
+                                 "--shape %s (--method rsa keeps a gap between any convex shapes)",
+                              o->shape_file ? o->shape_file : vp_shape_name(o->shape));
         if (o->shape == VP_SHAPE_SPHERE && o->lattice == VP_LATTICE_DENSEST)
             o->lattice = VP_LATTICE_FCC;
         if (o->shape != VP_SHAPE_SPHERE && o->lattice != VP_LATTICE_DEFAULT &&
@@ -464,8 +470,6 @@ static const struct {
     {OPT_OVERLAP, M_RSA},
     {OPT_TARGET_FRACTION, M_RSA | M_RELAX | M_JAM},
     {OPT_TOLERANCE, M_RELAX | M_JAM},
-    {OPT_MARGIN, M_RSA | M_RELAX | M_JAM},
-    {OPT_GAP, M_RSA | M_RELAX | M_JAM},
     {OPT_RADIUS_FIELD, M_RSA | M_RELAX | M_JAM},
     {OPT_RADIUS_FIELD_MODE, M_RSA | M_RELAX | M_JAM},
     {OPT_DENSITY_FIELD, M_RSA},

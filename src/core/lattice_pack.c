@@ -39,6 +39,7 @@ typedef struct setup {
     double sites[2][3];     /* world site offsets */
     double lo[3], hi[3];    /* box that holds every admissible centre */
     double tol;             /* rounding allowed at the wall (setup_build) */
+    double margin;          /* kept from the wall */
     double thr_in;          /* d <= thr_in - m: in for every offset */
     double thr_out;         /* d >  thr_out + m: out for every offset */
     const vp_depth_map *dm; /* coarse depth bounds, or NULL (depth_map.h) */
@@ -64,26 +65,30 @@ static int invert3(const double m[3][3], double inv[3][3]) {
     return 0;
 }
 
+/* margin: kept from the wall; gap_half: spheres are spaced as if their
+ * radius were r + gap_half (their fit uses r). */
 static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis *lb,
                         const vp_polyhedron *poly, double sb, vp_fit fit, double r,
-                        const double q[4]) {
+                        const double q[4], double margin, double gap_half) {
     memset(s, 0, sizeof *s);
     s->c = c;
     s->fit = fit;
     s->poly = poly;
     s->sb = sb;
     s->r = r;
+    s->margin = margin;
     memcpy(s->q, q, sizeof s->q);
     double m[3][3];
+    const double rl = r + gap_half; /* the lattice's scale */
     for (int k = 0; k < 3; k++) {
-        double v[3] = {lb->a[k][0] * r, lb->a[k][1] * r, lb->a[k][2] * r};
+        double v[3] = {lb->a[k][0] * rl, lb->a[k][1] * rl, lb->a[k][2] * rl};
         vp_quat_rotate(q, v, s->b[k]);
         for (int i = 0; i < 3; i++) m[i][k] = s->b[k][i];
     }
     invert3(m, s->binv);
     s->nsites = lb->nsites;
     for (int k = 0; k < lb->nsites; k++) {
-        double v[3] = {lb->sites[k][0] * r, lb->sites[k][1] * r, lb->sites[k][2] * r};
+        double v[3] = {lb->sites[k][0] * rl, lb->sites[k][1] * rl, lb->sites[k][2] * rl};
         vp_quat_rotate(q, v, s->sites[k]);
     }
     double shrink = 0.0;
@@ -105,19 +110,20 @@ static void setup_build(setup *s, const vp_container *c, const vp_lattice_basis 
         if (a > scale) scale = a;
     }
     double tol = s->tol = 1e-12 * scale;
+    shrink += margin;
     for (int i = 0; i < 3; i++) {
         s->lo[i] = c->info.bmin[i] + shrink - tol;
         s->hi[i] = c->info.bmax[i] - shrink + tol;
     }
     if (fit == VP_FIT_CENTER) {
-        s->thr_in = tol;
-        s->thr_out = tol;
+        s->thr_in = tol - margin;
+        s->thr_out = tol - margin;
     } else if (!poly && !(sb > 0)) {
-        s->thr_in = -r + tol;
-        s->thr_out = -r + tol;
+        s->thr_in = -r + tol - margin;
+        s->thr_out = -r + tol - margin;
     } else {
-        s->thr_in = -r + tol; /* circumsphere inside: wholly inside */
-        s->thr_out = 0.0;     /* centroid outside: not inside */
+        s->thr_in = -r + tol - margin; /* circumsphere inside: wholly inside */
+        s->thr_out = -margin;          /* centroid outside: not inside */
     }
 }
 
@@ -149,8 +155,9 @@ static int fits(const setup *s, const double x[3]) {
     double d = dist(s, x);
     if (d <= s->thr_in) return 1;
     if (d > s->thr_out || (!s->poly && !(s->sb > 0)) || s->fit == VP_FIT_CENTER) return 0;
-    if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, s->r, s->q, x, 0.0) <= 0.0;
-    return vp_poly_wall_distance(s->c, s->poly, s->r, s->q, x, 0.0) <= 0.0;
+    const double m = -s->margin; /* the surface keeps the margin */
+    if (s->sb > 0) return vp_superball_wall_distance(s->c, s->sb, s->r, s->q, x, m) <= m;
+    return vp_poly_wall_distance(s->c, s->poly, s->r, s->q, x, m) <= m;
 }
 
 /* Integer ranges of lattice coordinate k over box [lo,hi] at offset o. */
@@ -434,6 +441,7 @@ typedef struct search_cfg {
     const vp_polyhedron *poly;
     double sb;
     vp_fit fit;
+    double margin, gap_half; /* (setup_build) */
     int offsets;   /* stage-one offsets per orientation */
     int rotations; /* orientations (1 = identity only) */
     int refine;    /* pattern-search refinement */
@@ -489,7 +497,8 @@ static vp_result search_once(const search_cfg *cfg, double r, placement *best, s
         double q[4] = {0, 0, 0, 1};
         if (rot > 0) vp_rng_quat_shoemake(&rng, q);
         setup s;
-        setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->sb, cfg->fit, r, q);
+        setup_build(&s, cfg->c, cfg->lb, cfg->poly, cfg->sb, cfg->fit, r, q, cfg->margin,
+                    cfg->gap_half);
         s.dm = cfg->dm;
         if (noff > 1) corner_offset(&s, u[1]); /* in place of the sequence's first after 0 */
         classified cl;
@@ -704,10 +713,11 @@ static double estimate_count(const vp_container *c, const vp_lattice_basis *lb, 
  * particles by volume, 3.9e8 points to classify. m scales with r: *m_unit
  * keeps m / r from the first call (0 before it). */
 static double ambiguous_count(const vp_container *c, const vp_lattice_basis *lb,
-                              const vp_polyhedron *poly, double sb, vp_fit fit, double r,
-                              double *m_unit) {
+                              const vp_polyhedron *poly, double sb, const vp_lattice_params *lp,
+                              double r, double *m_unit) {
     setup s;
-    setup_build(&s, c, lb, poly, sb, fit, r, (const double[4]){0, 0, 0, 1});
+    setup_build(&s, c, lb, poly, sb, lp->fit, r, (const double[4]){0, 0, 0, 1}, lp->margin,
+                0.5 * lp->gap);
     if (!(*m_unit > 0.0)) *m_unit = covering_bound(&s) / r;
     double m = *m_unit * r, outer = 1.0, inner = 1.0;
     for (int i = 0; i < 3; i++) {
@@ -791,6 +801,15 @@ static vp_result check_arguments(vp_context *ctx, const vp_container *c,
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
                        "--lattice %s is for spheres; a %s packs on its densest lattice",
                        vp_lattice_name(params->lattice), vp_shape_name(params->shape));
+    if (!(params->margin >= 0) || !(params->gap >= 0) || !isfinite(params->margin) ||
+        !isfinite(params->gap))
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "lattice: margin and gap must be finite and >= 0 (world units)");
+    if (params->gap > 0 && params->shape != VP_SHAPE_SPHERE)
+        return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
+                       "lattice: a gap spaces a lattice of spheres in this version, not of %s "
+                       "(rsa keeps a gap between any convex shapes)",
+                       vp_shape_name(params->shape));
     J->poly = vp_shape_polyhedron(params->shape);
     J->unit_vol = vp_shape_unit_volume_param(params->shape, sb);
     const double rin = J->poly ? J->poly->inradius : superball ? vp_superball_inradius(sb) : 1.0;
@@ -815,12 +834,18 @@ static vp_result check_arguments(vp_context *ctx, const vp_container *c,
                        "radius %g is too large: no particle fits in the container (its smallest "
                        "extent is %g)",
                        r, extent);
-    if (params->fit == VP_FIT_INSIDE && J->count_mode && r > c->info.interior_band)
-        r = c->info.interior_band;
-    if (params->fit == VP_FIT_INSIDE && r > c->info.interior_band * (1 + 1e-9))
+    /* the depth the fit test reads: the radius (fit inside) and the margin */
+    const double band = c->info.interior_band - params->margin;
+    if (params->fit == VP_FIT_INSIDE && J->count_mode && r > band && band > 0) r = band;
+    if (params->margin > c->info.interior_band * (1 + 1e-9) ||
+        (params->fit == VP_FIT_INSIDE && r > band * (1 + 1e-9)))
         return vp_fail(ctx, VP_ERR_INVALID_ARGUMENT,
-                       "radius %g exceeds the container's interior band %g (distances deeper "
-                       "inside are unknown); reload the container for this radius",
+                       params->margin > 0
+                           ? "radius %g and the margin exceed the container's interior band %g "
+                             "(distances deeper inside are unknown); reload the container for "
+                             "them (vp_container_params_for_lattice)"
+                           : "radius %g exceeds the container's interior band %g (distances "
+                             "deeper inside are unknown); reload the container for this radius",
                        r, c->info.interior_band);
     J->r = r;
     return VP_OK;
@@ -845,7 +870,7 @@ static vp_result check_budget(lattice_job *J) {
                        est, r, a, b);
     }
     J->m_unit = 0.0;
-    double amb = ambiguous_count(J->c, &J->lb, J->poly, J->sb, params->fit, r, &J->m_unit);
+    double amb = ambiguous_count(J->c, &J->lb, J->poly, J->sb, params, r, &J->m_unit);
     if (J->count_mode && (amb > VP_COUNT_AMB_WORK + 100.0 * (double)params->count ||
                           amb * VP_AMB_BYTES > (double)limit))
         return vp_fail(ctx, VP_ERR_NO_FIT,
@@ -878,6 +903,8 @@ static void plan_searches(const lattice_job *J, lattice_searches *S) {
     cfg->poly = J->poly;
     cfg->sb = J->sb;
     cfg->fit = params->fit;
+    cfg->margin = params->margin;
+    cfg->gap_half = 0.5 * params->gap;
     cfg->seed = params->seed;
     cfg->threads = vp_threads_for(J->ctx);
     cfg->ctx = J->ctx;
@@ -982,7 +1009,7 @@ static vp_result fit_count(lattice_job *J, lattice_searches *S, placement *best,
             if (nr == r) break;
             r = nr;
             if (estimate_count(c, &J->lb, J->unit_vol, r) > 4e9) break;
-            double na = ambiguous_count(c, &J->lb, J->poly, J->sb, params->fit, r, &J->m_unit);
+            double na = ambiguous_count(c, &J->lb, J->poly, J->sb, params, r, &J->m_unit);
             if (na > VP_COUNT_AMB_WORK + 100.0 * target || na * VP_AMB_BYTES > (double)J->limit) {
                 stop->wall_r = r;
                 stop->wall_amb = na;
@@ -1028,7 +1055,8 @@ static vp_result place(const lattice_job *J, const lattice_searches *S, const pl
     const vp_lattice_params *params = J->params;
     const double r = J->r;
     setup s;
-    setup_build(&s, J->c, &J->lb, J->poly, J->sb, params->fit, r, best->q);
+    setup_build(&s, J->c, &J->lb, J->poly, J->sb, params->fit, r, best->q, params->margin,
+                0.5 * params->gap);
     s.dm = S->cfg.dm;
     vp_particles *p = NULL;
     double o[3];

@@ -74,7 +74,7 @@ def test_rsa_count_without_radius(tmp_path):
     ({"method": "jam", "count": 10, "margin": -1}, ">= 0"),
     ({"method": "relax", "count": 10, "radius": 0.1, "gap": float("nan")}, "gap must be"),
     ({"method": "rsa", "count": 10, "gap": 0.5}, "smaller than the radius"),
-    ({"method": "lattice", "radius": 0.1, "margin": 0.1}, "margin"),
+    ({"method": "lattice", "radius": 0.1, "shape": "cube", "gap": 0.01}, "lattice of spheres"),
 ])
 def test_bad_margin_gap(kw, words):
     with pytest.raises(ValueError) as e:
@@ -86,3 +86,20 @@ def test_jam_gap_too_large_is_the_library_message():
     with pytest.raises(vdbpack.InvalidArgumentError) as e:
         vdbpack.pack("box:1,1,1", method="jam", count=100, gap=0.2)
     assert "not smaller than the smallest radius" in str(e.value)
+
+
+def test_lattice_margin_and_gap_as_the_cli(tmp_path):
+    # a simple cubic lattice of radius 0.05 spaced for a gap of 0.02 and
+    # kept 0.03 from the walls of the unit box: 8 per axis (centres in
+    # [-0.42, 0.42], 0.12 apart), the CLI's particles
+    p = vdbpack.pack("box:1,1,1", method="lattice", lattice="sc", radius=0.05, margin=0.03,
+                     gap=0.02)
+    assert len(p) == 512
+    d = np.linalg.norm(p.positions[:, None, :] - p.positions[None, :, :], axis=-1)
+    np.fill_diagonal(d, np.inf)
+    assert abs(d.min() - 0.12) < 1e-9
+    assert (0.5 - np.abs(p.positions).max() - 0.05) >= 0.03 - 1e-9
+    out = tmp_path / "l.csv"
+    run_cli("pack", "box:1,1,1", "--lattice", "sc", "--radius", "0.05", "--margin", "0.03",
+            "--gap", "0.02", "-o", out)
+    assert_same_particles(p, out)
