@@ -124,6 +124,38 @@ static void count_contacts(const vp_particles *p, int sphere, double gap, double
     free(pairs);
 }
 
+/* The report's core against geometry: centres deeper than 5 mean
+ * diameters, their volume, and the core's exact volume (a box of side
+ * 1 - 2 depth, a ball of radius 1 - depth). The radii are the file's
+ * (floats rounded down from the packer's), so a centre at the depth may
+ * count on one side here and the other there: two at most. */
+static void check_core(const vp_particles *p, int sphere, const vp_jam_report *rep) {
+    double mean = 0;
+    for (size_t i = 0; i < p->count; i++) mean += radius_of(p, i);
+    double depth = 5.0 * 2.0 * mean / (double)p->count;
+    size_t count = 0;
+    double vol = 0;
+    for (size_t i = 0; i < p->count; i++)
+        if (wall_distance(sphere, p->positions + 3 * i) < -depth) {
+            double r = radius_of(p, i);
+            count++;
+            vol += 4.0 / 3.0 * M_PI * r * r * r;
+        }
+    double side = 1.0 - 2.0 * depth, rad = 1.0 - depth;
+    double exact = sphere ? 4.0 / 3.0 * M_PI * rad * rad * rad : side * side * side;
+    if (count < 100 || rep->core_count == 0) {
+        ASSERT_TRUE(count < 103 && rep->core_count == 0);
+        return;
+    }
+    fprintf(stderr,
+            "   core: %zu centres (report %zu), volume %.6f (exact %.6f), fraction %.4f "
+            "(report %.4f)\n",
+            count, rep->core_count, rep->core_volume, exact, vol / exact, rep->core_fraction);
+    ASSERT_TRUE(count + 2 >= rep->core_count && rep->core_count + 2 >= count);
+    ASSERT_NEAR(rep->core_volume, exact, 2e-3 * exact);
+    ASSERT_NEAR(rep->core_fraction, vol / exact, 5e-3 * vol / exact);
+}
+
 /* Packs count spheres of dist into container `sphere`; checks the result
  * independently; returns it (the caller frees it). */
 static vp_particles *pack_checked(int sphere, size_t count, const char *dist, vp_fit fit,
@@ -158,6 +190,7 @@ static vp_particles *pack_checked(int sphere, size_t count, const char *dist, vp
     vp_container_info ci;
     vp_container_get_info(c, &ci);
     ASSERT_NEAR(rep->fraction, vol / ci.volume, 1e-6);
+    check_core(p, sphere, rep);
     fprintf(stderr,
             "   %zu spheres (%s, %s, fit %s): fraction %.4f, core %.4f, Z %.3f, rattlers "
             "%.3f, worst pair %.2g, worst wall %.2g, %d minimisations, %.1f s\n",
@@ -229,10 +262,12 @@ static void test_containers_and_sizes(void) {
     vp_particles_destroy(p);
 }
 
+/* 2600 spheres: five chunks of work (one per 512), so the two threads
+ * share them and the chunks' sums meet */
 static void test_threads(void) {
     vp_jam_report a, b;
-    vp_particles *p = pack_checked(0, 600, "uniform:1:1.5", VP_FIT_INSIDE, 1, &a);
-    vp_particles *q = pack_checked(0, 600, "uniform:1:1.5", VP_FIT_INSIDE, 2, &b);
+    vp_particles *p = pack_checked(0, 2600, "uniform:1:1.5", VP_FIT_INSIDE, 1, &a);
+    vp_particles *q = pack_checked(0, 2600, "uniform:1:1.5", VP_FIT_INSIDE, 2, &b);
     ASSERT_EQ_INT(p->count, q->count);
     ASSERT_TRUE(memcmp(p->positions, q->positions, 3 * p->count * sizeof(double)) == 0);
     ASSERT_TRUE(memcmp(p->radii, q->radii, p->count * sizeof(float)) == 0);
