@@ -13,7 +13,10 @@ over non-zero lattice vectors. We maximise it by Nelder-Mead from many
 starts, then polish: with the contact set fixed (lattice vector z, facet n
 of D), the constraints n.(zB) = w(n) are linear in B, so the best lattice on
 that set minimises |det| over an affine subspace (a vertex when it has nine
-independent constraints). Usage: archimedean_lattices.py [name ...] [--starts N] [--seed N]
+independent constraints). Usage: archimedean_lattices.py [name ...] [--starts N] [--seed N];
+archimedean_lattices.py --check [name ...] tests the shipped bases for a
+strict local optimum (KKT multipliers and the Hessian on the set that keeps
+every contact)
 (the table: --starts 6 for most; 20 for the truncated cuboctahedron, 30
 for the snub cube, which 6 starts leave short)
 """
@@ -324,8 +327,82 @@ def search(name, starts, rng):
     return B, dens, V, ncont, len(v), len(normals)
 
 
+def shipped_basis(name):
+    """The basis src/core/lattice_archimedean.inc ships for name."""
+    import os
+    import re
+    inc = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src", "core",
+                       "lattice_archimedean.inc")
+    text = open(inc).read()
+    enum = "VP_SHAPE_" + name.upper().replace("-", "_")
+    m = re.search(re.escape(enum) + r",\s*\{(.*?)\}\}\}", text, re.S)
+    nums = [float(x) for x in re.findall(r"[-+0-9.eE]+", m.group(1))]
+    return np.array(nums, float).reshape(3, 3)
+
+
+def nnls(A, b, iters=500):
+    """min |A x - b| over x >= 0 (Lawson and Hanson); returns x, residual."""
+    n = A.shape[1]
+    P = np.zeros(n, bool)
+    x = np.zeros(n)
+    for _ in range(iters):
+        w = A.T @ (b - A @ x)
+        if P.all() or w[~P].max() <= 1e-12:
+            break
+        P[int(np.argmax(np.where(~P, w, -np.inf)))] = True
+        while True:
+            z = np.zeros(n)
+            z[P] = np.linalg.lstsq(A[:, P], b, rcond=None)[0]
+            if (z[P] > 0).all():
+                x = z
+                break
+            m = P & (z <= 0)
+            x = x + np.min(x[m] / (x[m] - z[m])) * (z - x)
+            P &= x > 1e-15
+    return x, np.linalg.norm(A @ x - b)
+
+
+def optimality(name):
+    """Whether the shipped basis is a strict local optimum: the gradient of
+    log|det| in the cone of the contacts' constraint normals (KKT, by
+    NNLS), and log|det| convex on the bases that keep every contact
+    (Hessian by central differences on that affine set)."""
+    v = vertices(name)
+    normals, h = facets(v)
+    V = volume(v, normals, h)
+    G, _ = diff_axes(v, normals)
+    B = shipped_basis(name)
+    B = B / lam1(G, B, Z3)
+    act = contact(G, B, 1e-7)
+    M = np.array([np.kron(z, sg * G[ai]) for z, ai, sg in act])
+    g = np.linalg.inv(B).T.reshape(9)
+    mu, res = nnls(M.T, g)
+    u, s, vt = np.linalg.svd(M)
+    N = vt[int((s > 1e-9 * s[0]).sum()):].T
+    x0 = B.reshape(9)
+    f = lambda y: math.log(abs(np.linalg.det((x0 + N @ y).reshape(3, 3))))
+    k, eps = N.shape[1], 1e-4
+    H = np.zeros((k, k))
+    for i in range(k):
+        for j in range(k):
+            a, b = np.eye(k)[i] * eps, np.eye(k)[j] * eps
+            H[i, j] = (f(a + b) - f(a - b) - f(b - a) + f(-a - b)) / (4 * eps * eps)
+    pairs = len({tuple(z if z[np.nonzero(z)[0][0]] > 0 else -z) for z, _, _ in act})
+    eig = np.linalg.eigvalsh(H) if k else np.array([])
+    dens = V * lam1(G, B, Z3) ** 3 / abs(np.linalg.det(B))
+    print(f"{name}: fraction {dens:.12f}, {pairs} touching pairs +-z, {len(act)} constraints; "
+          f"KKT residual {res:.2g} (|gradient| {np.linalg.norm(g):.3g}), least multiplier "
+          f"{mu.min():.3g}; Hessian on the {k}-dim set keeping the contacts: "
+          + (", ".join(f"{e:.3g}" for e in eig) if k else "none (a vertex)"))
+
+
 def main():
     args = sys.argv[1:]
+    if "--check" in args:
+        args.remove("--check")
+        for name in args or NAMES:
+            optimality(name)
+        return
     starts = 24
     if "--starts" in args:
         i = args.index("--starts")

@@ -58,6 +58,25 @@ grep -qE '^f( [0-9]+){10}$' t.obj || die "no decagon in the OBJ"
 "$VDBPACK" check back.vdb --container box:1,1,1 -q || die "check of the converted file"
 echo "  ok: render, OBJ with decagons, PLY and back"
 
+echo "=== every shipped lattice is a strict local optimum"
+# (scripts/archimedean_lattices.py --check: the gradient of log|det| in the
+# cone of the touching pairs' constraints, and a positive definite Hessian
+# on the bases that keep every contact; a basis that could be moved to a
+# denser lattice without losing a contact fails here)
+"$PY" "$VP_SRC/scripts/archimedean_lattices.py" --check >opt.txt || die "the check failed to run"
+"$PY" - opt.txt <<'PY' || die "$(cat opt.txt)"
+import re, sys
+lines = open(sys.argv[1]).read().splitlines()
+assert len(lines) == 13, lines
+for ln in lines:
+    name = ln.split(":")[0]
+    res = float(re.search(r"KKT residual ([-0-9.e+]+)", ln).group(1))
+    lo = float(re.search(r"least multiplier ([-0-9.e+]+)", ln).group(1))
+    eig = [float(x) for x in re.findall(r"[-0-9.e+]+", ln.split("contacts:")[-1])]
+    assert res < 1e-6 and lo >= 0 and eig and min(eig) > 1e-3, ln
+    print("  ok: %s: KKT residual %.1g, Hessian %s" % (name, res, eig))
+PY
+
 echo "=== an unknown solid: one line, exit 2, no file"
 set +e
 "$VDBPACK" pack sphere:1 --shape truncated-pentagon --radius 0.1 -o bad.vdb 2>err.txt
