@@ -136,7 +136,7 @@ def wall_profile(P, R, half, d):
     area = 0.0
     for ax in range(3):
         o = [k for k in range(3) if k != ax]
-        lat = [min(depth, 0.25 * 2 * half[k]) for k in o]  # the edges' margin
+        lat = [min(depth, 0.5 * half[k]) for k in o]  # the edges' margin
         m = np.all(np.abs(P[:, o]) < np.array([half[k] - l for k, l in zip(o, lat)]), 1)
         face = 4.0 * (half[o[0]] - lat[0]) * (half[o[1]] - lat[1])
         for t in (P[m, ax] + half[ax], half[ax] - P[m, ax]):
@@ -157,8 +157,9 @@ def main():
     a = ap.parse_args()
     try:
         size = np.array([float(t) for t in a.box.split(",")])
-        assert len(size) == 3 and np.all(size > 0) and np.all(np.isfinite(size))
-    except (ValueError, AssertionError):
+    except ValueError:
+        size = np.array([])
+    if len(size) != 3 or not np.all(np.isfinite(size)) or not np.all(size > 0):
         raise SystemExit("packing_structure: --box wants three positive sizes, not '%s'" % a.box)
     P, R = load(a.csv)
     half = 0.5 * size
