@@ -6,6 +6,8 @@
  * sphere case of the issue (Z between 5.5 and 6.5) is skipped in sanitizer
  * builds, where it takes too long. */
 #include "vdbpack/vdbpack.h"
+#include "core/rng.h"
+#include "core/size_dist_sample.h"
 #include "vp_test.h"
 
 #include <math.h>
@@ -262,6 +264,45 @@ static void test_containers_and_sizes(void) {
     vp_particles_destroy(p);
 }
 
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Polydisperse radii trade places in the quench (docs/jam.md): the output
+ * holds exactly the radii drawn, each scaled by the report's factor and
+ * rounded down to a float, but many at another sphere than the one they
+ * were drawn for; nearly equal radii (SD/mean below 0.1) stay where they
+ * were drawn. The radii are drawn again here from the packer's stream
+ * (pack_checked's seed 7, stream 1), in the output's order. */
+static void test_swaps(void) {
+    const char *dists[2] = {"lognormal:1:0.2", "uniform:1:1.1"};
+    for (int k = 0; k < 2; k++) {
+        vp_jam_report rep;
+        vp_particles *p = pack_checked(0, 1500, dists[k], VP_FIT_INSIDE, 2, &rep);
+        vp_size_dist d;
+        ASSERT_OK(g_ctx, vp_size_dist_parse(g_ctx, dists[k], &d));
+        uint64_t rs = vp_rng_stream(7, 1);
+        size_t n = p->count, moved = 0;
+        double *drawn = malloc(n * sizeof *drawn), *got = malloc(n * sizeof *got);
+        ASSERT_TRUE(drawn && got);
+        for (size_t i = 0; i < n; i++) {
+            drawn[i] = rep.radius_scale * vp_size_dist_sample(&d, &rs);
+            got[i] = p->radii[i];
+            if (fabs(got[i] - drawn[i]) > 1e-6 * drawn[i]) moved++;
+        }
+        qsort(drawn, n, sizeof *drawn, cmp_double);
+        qsort(got, n, sizeof *got, cmp_double);
+        for (size_t i = 0; i < n; i++) ASSERT_NEAR(got[i], drawn[i], 1e-6 * drawn[i]);
+        fprintf(stderr, "   %s: %zu of %zu spheres hold another's radius\n", dists[k], moved, n);
+        if (k == 0) ASSERT_TRUE(moved > n / 20);
+        else ASSERT_EQ_INT(moved, 0);
+        free(drawn);
+        free(got);
+        vp_particles_destroy(p);
+    }
+}
+
 /* 2600 spheres: five chunks of work (one per 512), so the two threads
  * share them and the chunks' sums meet */
 static void test_threads(void) {
@@ -401,6 +442,7 @@ int main(void) {
     RUN_TEST(test_bad_input);
     RUN_TEST(test_margin_gap);
     RUN_TEST(test_threads);
+    RUN_TEST(test_swaps);
     RUN_TEST(test_containers_and_sizes);
     RUN_TEST(test_small);
     RUN_TEST(test_ten_thousand);

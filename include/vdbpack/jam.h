@@ -17,7 +17,10 @@ extern "C" {
 typedef struct vp_jam_params {
     vp_fit fit;
     vp_size_dist radius;    /* the radii's distribution; all radii are then
-                                scaled by one factor until the packing jams */
+                                scaled by one factor until the packing jams.
+                                With a spread of 0.1 of the mean or more,
+                                neighbours may trade radii as they pack: the
+                                radii drawn, not in the order drawn */
     size_t count;           /* spheres; 0: from target_fraction */
     double target_fraction; /* with count 0: count = this fraction of the
                                 container's volume over the mean sphere

@@ -184,6 +184,21 @@ double vp_size_dist_mean(const vp_size_dist *d) {
     return d->a;
 }
 
+double vp_size_dist_rel_sd(const vp_size_dist *d) {
+    double m1 = vp_size_dist_mean(d), m2 = 0;
+    switch (d->kind) {
+    case VP_SIZE_CONSTANT: return 0.0;
+    case VP_SIZE_UNIFORM: return d->b > d->a ? (d->b - d->a) / sqrt(12.0) / m1 : 0.0;
+    case VP_SIZE_LOGNORMAL: m2 = lognormal_moment(d, 2); break;
+    case VP_SIZE_LIST:
+        for (unsigned i = 0; i < d->n; i++) m2 += d->values[i] * d->values[i];
+        m2 /= d->n;
+        break;
+    }
+    double var = m2 - m1 * m1;
+    return var > 0 && m1 > 0 ? sqrt(var) / m1 : 0.0;
+}
+
 double vp_size_dist_mean_cube(const vp_size_dist *d) {
     switch (d->kind) {
     case VP_SIZE_CONSTANT: return d->a * d->a * d->a;

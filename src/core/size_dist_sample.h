@@ -12,4 +12,7 @@ double vp_size_dist_sample(const vp_size_dist *d, uint64_t *s);
  * maximal pass has at a centre): the law of d truncated to [min, c]; the
  * smallest radius when c is below it. */
 double vp_size_dist_sample_below(const vp_size_dist *d, double c, uint64_t *s);
+/* The standard deviation of the radius over its mean (0 for one radius;
+ * the lognormal's as truncated). */
+double vp_size_dist_rel_sd(const vp_size_dist *d);
 #endif
