@@ -84,13 +84,13 @@ for t in "${TARGETS[@]}"; do
     "$B/fuzz/$t" "$x" -timeout=10 >"$F/replay.txt" 2>&1 || true
     first=$(grep -E "^ +#[0-9]+ 0x" "$F/replay.txt" |
             grep -vE "__interceptor_|__asan|__sanitizer|__ubsan|fuzzer::|AlarmCallback|libc\.so|libstdc\+\+\.so|libgcc_s|/libc/|sysdeps/|fuzz/$t\+0x|fuzz/fuzz_new\.cpp|operator new" |
-            sed -n 1p)
+            sed -n 1p) || true # no stack at all: grep's status 1, fatal under pipefail
     # (frames of the fuzz binary without a source file are the sanitizer
     # runtime's: malloc, memcpy; fuzz_new.cpp is the targets' operator new,
     # see the Fuzzing section of docs/hardening.md; a timeout that does not recur on replay
     # leaves no stack and goes straight to the containment check)
     if [ -n "$first" ] && ! printf '%s\n' "$first" | grep -Eq "libopenvdb\.so|/usr/include/openvdb/"; then
-      echo "  $t: $(basename "$x"): a finding outside OpenVDB: ${first:-no stack}"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | sed -n 1,6p
+      echo "  $t: $(basename "$x"): a finding outside OpenVDB: ${first:-no stack}"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | sed -n 1,6p || true
       continue
     fi
     cp "$x" "$F/replay.vdb"
@@ -108,7 +108,9 @@ for t in "${TARGETS[@]}"; do
       rm -f "$F/replay-out.vdb"
     done
     if [ $ok = 1 ]; then
-      echo "  $t: $(basename "$x"): in OpenVDB ($(printf '%s' "$first" | sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' | cut -c1-90)), contained by vdbpack: $(cat "$F/replay.err")"
+      where="no stack on replay"
+      [ -z "$first" ] || where="in OpenVDB ($(printf '%s' "$first" | sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' | cut -c1-90))"
+      echo "  $t: $(basename "$x"): $where, contained by vdbpack: $(cat "$F/replay.err")"
       mv "$x" "$F/contained-$(basename "$x")"
     fi
   done
@@ -118,7 +120,7 @@ for t in "${TARGETS[@]}"; do
     if [ "$kind" = crash ]; then
       "$B/fuzz/$t" "$x" >"$F/replay.txt" 2>&1 || true
       grep -Eq "SUMMARY: [A-Za-z]+Sanitizer: .*libassimp\.so" "$F/replay.txt" || {
-        echo "  $t: $(basename "$x"): a crash outside Assimp:"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | sed -n 1,6p
+        echo "  $t: $(basename "$x"): a crash outside Assimp:"; grep -E "SUMMARY|#[0-3] " "$F/replay.txt" | sed -n 1,6p || true
         continue; }
     fi
     case $(( $(head -c 1 "$x" | od -An -tu1 | tr -d ' ') & 7 )) in
@@ -145,7 +147,7 @@ for t in "${TARGETS[@]}"; do
       echo "  $t: $(basename "$x"): a third-party leak of fuzz/lsan.supp once fully unwound"
       mv "$x" "$F/contained-$(basename "$x")"
     else
-      echo "  $t: $(basename "$x"): a leak:"; grep -E "SUMMARY|#[0-5] " "$F/replay.txt" | sed -n 1,8p
+      echo "  $t: $(basename "$x"): a leak:"; grep -E "SUMMARY|#[0-5] " "$F/replay.txt" | sed -n 1,8p || true
     fi
   done
   found=$(find "$F" -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' | wc -l)

@@ -76,6 +76,14 @@ assert d.count(one) == 1, d.count(one)
 i = d.find(one)
 d[i:i + 4] = struct.pack("<i", 2)
 open("two_buffers.vdb", "wb").write(d)
+# the grid's type name blanked (a fuzzer found one of a thousand spaces:
+# OpenVDB's message quoted them all)
+d = bytearray(open("plain.vdb", "rb").read())
+t = b"Tree_float_5_4_3"
+assert d.count(t) == 1, d.count(t)
+i = d.find(t)
+d[i:i + len(t)] = b" " * len(t)
+open("blank_type.vdb", "wb").write(d)
 PY
 for f in far_closed two_buffers; do
   rc=0; timeout 120 "$VDBPACK" pack "$f.vdb" --radius 0.1 -o out.vdb --json >s.json 2>s.err || rc=$?
@@ -117,5 +125,15 @@ for cmd in "info cut.vdb" "pack cut.vdb --radius 0.1 -o out.vdb" "check whole.vd
     || die "$cmd: the message does not name the cut: $(cat s.err)"
   [ ! -e out.vdb ] && [ ! -e out.ply ] || die "$cmd: wrote an output file"
   echo "  ok: $cmd: exit $rc in ${took} s: $(cat s.err)"
+done
+# an unknown grid type: one line, its blanks not quoted one by one
+for cmd in "info blank_type.vdb" "pack blank_type.vdb --radius 0.1 -o out.vdb" \
+           "check blank_type.vdb --container sphere:1"; do
+  rc=0; timeout 60 "$VDBPACK" $cmd >/dev/null 2>s.err || rc=$?
+  [ "$rc" = 1 ] || die "$cmd: exit $rc: $(head -c 300 s.err)"
+  [ "$(wc -l <s.err)" = 1 ] && grep -q "not a readable .vdb file" s.err || die "$cmd: not one line: $(cat s.err)"
+  ! grep -q "  " s.err || die "$cmd: a run of blanks in the message: $(cat s.err)"
+  [ ! -e out.vdb ] || die "$cmd: wrote an output file"
+  echo "  ok: $cmd: $(cat s.err)"
 done
 echo "PASS: sh_levelset_inputs"

@@ -62,8 +62,15 @@ int fail(char *err, size_t errlen, int code, const char *fmt, ...)
         va_start(ap, fmt);
         vp_os_vformat(err, errlen, fmt, ap); // a long path loses its middle, not the end
         va_end(ap);
-        for (char *c = err; *c; ++c)
-            if (*c == '\n' || *c == '\r' || *c == '\t') *c = ' ';
+        // one line, and a run of blanks as one (a corrupt file's grid type
+        // can be a thousand spaces, which OpenVDB's message quotes)
+        char *w = err;
+        for (const char *c = err; *c; ++c) {
+            char ch = (*c == '\n' || *c == '\r' || *c == '\t') ? ' ' : *c;
+            if (ch == ' ' && w > err && w[-1] == ' ') continue;
+            *w++ = ch;
+        }
+        *w = '\0';
         size_t n = strlen(err);
         while (n > 0 && err[n - 1] == ' ') err[--n] = '\0';
     }
