@@ -2,8 +2,9 @@
 /* libFuzzer target: every path that opens a .vdb: the container loader
  * (level-set choice, grid-type checks, interior band), `vdbpack info`'s
  * description and `vdbpack check`'s points reader. The input is written to
- * a temporary file, as OpenVDB reads files. Each must return a result code
- * with a message, never crash, leak or hang. */
+ * a temporary file (in $TMPDIR, else /tmp; removed after each input), as
+ * OpenVDB reads files. Each must return a result code with a message, never
+ * crash, leak or hang. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -14,15 +15,22 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (size > 1 << 20) return 0;
-    static char path[64];
-    if (!path[0]) snprintf(path, sizeof path, "/tmp/vp_fuzz_vdb_%d.vdb", (int)getpid());
+    static char path[4096];
+    if (!path[0]) {
+        const char *dir = getenv("TMPDIR");
+        if (!dir || !dir[0]) dir = "/tmp";
+        snprintf(path, sizeof path, "%s/vp_fuzz_vdb_%d.vdb", dir, (int)getpid());
+    }
     FILE *f = fopen(path, "wb");
     if (!f) return 0;
     if (size) fwrite(data, 1, size, f);
     fclose(f);
 
     vp_context *ctx = NULL;
-    if (vp_context_create(&ctx) != VP_OK) return 0;
+    if (vp_context_create(&ctx) != VP_OK) {
+        unlink(path);
+        return 0;
+    }
     vp_context_set_max_memory(ctx, (uint64_t)512 << 20);
     vp_context_set_threads(ctx, 1);
 
@@ -44,5 +52,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     vp_particles *pts = NULL;
     if (vp_read_points(ctx, path, &pts) == VP_OK) vp_particles_destroy(pts);
     vp_context_destroy(ctx);
+    unlink(path);
     return 0;
 }

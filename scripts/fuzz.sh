@@ -41,6 +41,10 @@ if [ ! -f "$C/fuzz_vdb/levelset.vdb" ]; then
 fi
 
 SECS=${FUZZ_SECONDS:-30}
+# the targets' and libFuzzer's temporary files stay in the build tree (a
+# child killed on a timeout cannot remove its own), emptied before and after
+rm -rf "$B/tmp" && mkdir -p "$B/tmp"
+export TMPDIR=$(cd "$B/tmp" && pwd)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-allocator_may_return_null=1:max_allocation_size_mb=512:detect_leaks=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$SRC/fuzz/lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
@@ -157,4 +161,5 @@ for t in "${TARGETS[@]}"; do
     status=1
   fi
 done
+rm -rf "$TMPDIR"
 exit $status
