@@ -16,7 +16,9 @@ that set minimises |det| over an affine subspace (a vertex when it has nine
 independent constraints). Usage: archimedean_lattices.py [name ...] [--starts N] [--seed N];
 archimedean_lattices.py --check [name ...] tests the shipped bases for a
 strict local optimum (KKT multipliers and the Hessian on the set that keeps
-every contact)
+every contact); archimedean_lattices.py --diff-body NAME prints D = K - K
+for scripts/lattice_enum.c, which enumerates Minkowski's configurations
+(Betke & Henk's method) instead of searching
 (the table: --starts 6 for most; 20 for the truncated cuboctahedron, 30
 for the snub cube, which 6 starts leave short)
 """
@@ -396,8 +398,22 @@ def optimality(name):
           + (", ".join(f"{e:.3g}" for e in eig) if k else "none (a vertex)"))
 
 
+def diff_body(name):
+    """Prints what scripts/lattice_enum.c reads: "M V(K)", then the M rows g
+    of D = K - K with gauge_D(x) = max |g . x| (K as this script scales it)."""
+    v = vertices(name)
+    normals, h = facets(v)
+    G, _ = diff_axes(v, normals)
+    print(len(G), repr(volume(v, normals, h)))
+    for g in G:
+        print("%.17g %.17g %.17g" % tuple(g))
+
+
 def main():
     args = sys.argv[1:]
+    if "--diff-body" in args:
+        diff_body(args[args.index("--diff-body") + 1])
+        return
     if "--check" in args:
         args.remove("--check")
         for name in args or NAMES:
