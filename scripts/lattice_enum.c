@@ -735,6 +735,7 @@ static void assign(int k) {
     if (k == 6) {
         double y[9];
         leaves++;
+        lps++;
         if (!build()) return;
         double s = phase1(y);
         if (s > 1e-10) return;
@@ -756,8 +757,9 @@ static void assign(int k) {
         facet_of[k] = f;
         npoints = k + 1;
         if (k == 1 && (branch++ % parts) != part) continue;
-        /* b3 (k = 3) alone is free; the others are tied to earlier points */
-        if ((k == 2 || k == 4 || k == 5) && !prefix_feasible()) continue;
+        /* b3 (k = 3) alone is free; b1+b2 and the fifth point are tied to
+         * earlier points (the sixth: the complete assignment's own LP) */
+        if ((k == 2 || k == 4) && !prefix_feasible()) continue;
         assign(k + 1);
     }
     npoints = k;
