@@ -1188,10 +1188,9 @@ static double room_share(const jam *s, uint64_t seed) {
 static vp_result place_random(vp_context *ctx, jam *s, const vp_jam_params *P) {
     const vp_container_info *ci = &s->c->info;
     uint64_t rs = vp_rng_stream(P->seed, 1), ps = vp_rng_stream(P->seed, 2);
-    double m = 0, rmax = 0;
+    double rmax = 0;
     for (size_t i = 0; i < s->n; i++) {
         R0(s, i) = vp_size_dist_sample(&P->radius, &rs);
-        m += R0(s, i);
         if (R0(s, i) > rmax) rmax = R0(s, i);
         s->id[i] = (uint32_t)i;
     }
