@@ -317,6 +317,50 @@ static void test_threads(void) {
     vp_particles_destroy(q);
 }
 
+/* The quench keeps positions in fixed point from the container's own
+ * centre (docs/jam.md): a unit box far from the origin, where a float
+ * could not tell two spheres' centres apart (its step at 50 000 is 4e-3,
+ * a third of a radius), packs as the one at the origin does: no overlap,
+ * none outside, jammed, and as dense within the spread of seeds. */
+static void test_far_from_origin(void) {
+    const double at[3] = {50000.25, -20000.5, 3.0};
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = at[k] - 0.5;
+        hi[k] = at[k] + 0.5;
+    }
+    vp_container *c = NULL;
+    ASSERT_OK(g_ctx, vp_container_create_box(g_ctx, lo, hi, &c));
+    vp_jam_params jp;
+    vp_jam_params_init(&jp);
+    jp.count = 800;
+    jp.seed = 7;
+    vp_context_set_threads(g_ctx, 2);
+    vp_particles *p = NULL;
+    vp_jam_report rep, ref;
+    ASSERT_OK(g_ctx, vp_pack_jam(g_ctx, c, &jp, &p, &rep));
+    ASSERT_EQ_INT(p->count, 800);
+    /* back to the origin, then the same checks as there */
+    for (size_t i = 0; i < p->count; i++)
+        for (int k = 0; k < 3; k++) p->positions[3 * i + k] -= at[k];
+    size_t over = 0;
+    ASSERT_LE(worst_pair(p, 1e-6, &over), 1e-6);
+    ASSERT_EQ_INT(over, 0);
+    for (size_t i = 0; i < p->count; i++)
+        ASSERT_LE(wall_distance(0, p->positions + 3 * i) + radius_of(p, i), 1e-9);
+    double z, rat;
+    count_contacts(p, 0, 1e-3, &z, &rat);
+    vp_particles *q = pack_checked(0, 800, "1", VP_FIT_INSIDE, 2, &ref);
+    fprintf(stderr, "   at (%g, %g, %g): fraction %.4f (at the origin %.4f), Z %.3f (%.3f)\n",
+            at[0], at[1], at[2], rep.fraction, ref.fraction, rep.mean_contacts, ref.mean_contacts);
+    ASSERT_NEAR(rep.fraction, ref.fraction, 0.01);
+    ASSERT_GE(z, 5.0);
+    ASSERT_GE(rep.mean_contacts, 5.0);
+    vp_particles_destroy(q);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
 static void test_bad_input(void) {
     vp_container *c = make(0);
     vp_particles *p = NULL;
@@ -442,6 +486,7 @@ int main(void) {
     RUN_TEST(test_bad_input);
     RUN_TEST(test_margin_gap);
     RUN_TEST(test_threads);
+    RUN_TEST(test_far_from_origin);
     RUN_TEST(test_swaps);
     RUN_TEST(test_containers_and_sizes);
     RUN_TEST(test_small);

@@ -29,6 +29,12 @@
  * build's distance tests, take four list entries (candidates) at a time
  * (AVX2 where the processor has it, the same arithmetic without); a build
  * after the first is one pass over the cells, not a count and a fill.
+ * The quench, two thirds of the steps, keeps 16-byte records instead:
+ * positions in fixed point (32-bit integers, a unit of 2^-30 of the
+ * container's largest extent) and the scaled radius as a float, so that
+ * the differences of positions are exact and the pair forces and the list
+ * tests take eight at a time in single precision (enter_quench,
+ * leave_quench); the barostat needs double precision and has it.
  * Determinism: work is split into a fixed number of chunks whatever the
  * thread count, each sphere's force is summed over its own list in a fixed
  * order, and the chunks' sums are added in chunk order. */
@@ -40,6 +46,9 @@
 #include "core/rng.h"
 #include "core/size_dist_sample.h"
 
+#if defined(__SSE2__) && defined(__x86_64__)
+#include <emmintrin.h>
+#endif
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -113,12 +122,17 @@ typedef struct jam {
     vp_fit fit;
     double margin, gap; /* kept from the wall, between surfaces (world) */
     size_t n;
-    double *x;     /* 4n: position and r0 of each sphere, in cell order */
-    float *v;      /* 3n velocities */
-    float *f;      /* 3n forces */
-    float *xr;     /* 3n positions at the last list build */
-    uint32_t *id;  /* n: the sphere's index in the output */
-    uint32_t *off; /* n + 1: list of sphere i is nb[off[i] .. off[i+1]) */
+    double *x;   /* 4n: position and r0 of each sphere, in cell order (after the quench) */
+    int32_t *xq; /* 4(n + 8): the quench's records: position in fixed point (units of
+                    * qres from qc) and, as a float's bits, the scaled radius in those units
+                    * (x is NULL then; past n, zeros the list build's eight-wide loads read) */
+    double *r0q; /* n: r0 in the quench */
+    double qc[3], qres, qinv; /* the fixed point's origin, unit and 1 / unit */
+    float *v;                 /* 3n velocities */
+    float *f;                 /* 3n forces */
+    float *xr;                /* 3n positions at the last list build */
+    uint32_t *id;             /* n: the sphere's index in the output */
+    uint32_t *off;            /* n + 1: list of sphere i is nb[off[i] .. off[i+1]) */
     uint32_t *nb;
     size_t nb_cap;
     uint8_t *near_wall; /* n: within reach of the wall until the next build */
@@ -150,8 +164,58 @@ typedef struct jam {
     double swap_grow;
 } jam;
 
-/* the radius of sphere i before scaling: r_i = scale R0(s, i) */
+/* the radius of sphere i before scaling: r_i = scale R0(s, i) (after the
+ * quench; r0_of and centre_of in either) */
 #define R0(s, i) ((s)->x[4 * (size_t)(i) + 3])
+
+static inline float q_radius(const jam *s, size_t i) {
+    float r;
+    memcpy(&r, s->xq + 4 * i + 3, sizeof r);
+    return r;
+}
+
+static inline void q_set_radius(jam *s, size_t i, double r0) {
+    float r = (float)(s->scale * r0 / s->qres);
+    memcpy(s->xq + 4 * i + 3, &r, sizeof r);
+}
+
+#define Q_MAX 2147483647
+
+/* u rounded to an integer, half to even (the processor's own rounding where
+ * it has SSE2: no libm call) */
+static inline int64_t q_round(double u) {
+#if defined(__SSE2__) && defined(__x86_64__)
+    if (!(fabs(u) < 4e18)) return u < 0 ? -(int64_t)4e18 : (int64_t)4e18;
+    return _mm_cvtsd_si64(_mm_set_sd(u));
+#else
+    return (int64_t)nearbyint(u);
+#endif
+}
+
+/* x in the fixed point, rounded half away from zero (without a libm call) */
+static inline int32_t q_coord(const jam *s, int k, double x) {
+    double t = (x - s->qc[k]) * s->qinv;
+    t += t < 0 ? -0.5 : 0.5;
+    return t < -2147483647.0 ? -2147483647 : t > 2147483647.0 ? 2147483647 : (int32_t)t;
+}
+
+static inline double r0_of(const jam *s, size_t i) { return s->xq ? s->r0q[i] : s->x[4 * i + 3]; }
+
+static inline void set_r0(jam *s, size_t i, double r) {
+    if (s->xq) {
+        s->r0q[i] = r;
+        q_set_radius(s, i, r);
+    } else {
+        s->x[4 * i + 3] = r;
+    }
+}
+
+static inline void centre_of(const jam *s, size_t i, double p[3]) {
+    if (s->xq)
+        for (int k = 0; k < 3; k++) p[k] = s->qc[k] + s->qres * (double)s->xq[4 * i + k];
+    else
+        for (int k = 0; k < 3; k++) p[k] = s->x[4 * i + k];
+}
 
 static void chunk_range(const jam *s, size_t ci, size_t *lo, size_t *hi) {
     *lo = ci * s->chunk;
@@ -235,7 +299,9 @@ static int sort_by_cell(jam *s) {
     if (!pos) return -1;
     memset(s->cstart, 0, (nc + 1) * sizeof *s->cstart);
     for (size_t i = 0; i < n; i++) {
-        key[i] = (uint32_t)cell_of(s, s->x + 4 * i);
+        double p[3];
+        centre_of(s, i, p);
+        key[i] = (uint32_t)cell_of(s, p);
         s->cstart[key[i] + 1]++;
     }
     for (size_t c = 0; c < nc; c++) s->cstart[c + 1] += s->cstart[c];
@@ -244,11 +310,21 @@ static int sort_by_cell(jam *s) {
     for (size_t i = 0; i < n; i++) perm[pos[key[i]]++] = (uint32_t)i;
     free(pos);
     /* apply, one component at a time through tmp */
-    for (int k = 0; k < 4; k++) {
-        for (size_t i = 0; i < n; i++) tmp[i] = s->x[4 * (size_t)perm[i] + k];
-        for (size_t i = 0; i < n; i++) s->x[4 * i + k] = tmp[i];
-    }
     float *tf = (float *)tmp;
+    if (s->xq) {
+        int32_t *ti = (int32_t *)tmp;
+        for (int k = 0; k < 4; k++) {
+            for (size_t i = 0; i < n; i++) ti[i] = s->xq[4 * (size_t)perm[i] + k];
+            for (size_t i = 0; i < n; i++) s->xq[4 * i + k] = ti[i];
+        }
+        for (size_t i = 0; i < n; i++) tmp[i] = s->r0q[perm[i]];
+        memcpy(s->r0q, tmp, n * sizeof *tmp);
+    } else {
+        for (int k = 0; k < 4; k++) {
+            for (size_t i = 0; i < n; i++) tmp[i] = s->x[4 * (size_t)perm[i] + k];
+            for (size_t i = 0; i < n; i++) s->x[4 * i + k] = tmp[i];
+        }
+    }
     for (int k = 0; k < 3; k++) {
         for (size_t i = 0; i < n; i++) tf[i] = s->v[3 * (size_t)perm[i] + k];
         for (size_t i = 0; i < n; i++) s->v[3 * i + k] = tf[i];
@@ -272,6 +348,26 @@ static uint32_t scan_c(const jam *s, size_t i, double ri, double reach_extra, ui
         double reach = ri + s->scale * R0(s, j) + reach_extra;
         double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
         if (dx * dx + dy * dy + dz * dz < reach * reach) {
+            if (out) out[count] = j;
+            count++;
+        }
+    }
+    return count;
+}
+
+/* The same in the quench, in its units (single precision, the fixed
+ * point's differences exact): reach = base + r_j (base = r_i + the
+ * reach's extra). The AVX2 form tests eight at a time with the same
+ * arithmetic. */
+static uint32_t scan_q_c(const jam *s, size_t i, float base, uint32_t a, uint32_t e, uint32_t *out,
+                         uint32_t count) {
+    const int32_t *xi = s->xq + 4 * i;
+    for (uint32_t j = a; j < e; j++) {
+        if (j == i) continue;
+        const int32_t *xj = s->xq + 4 * (size_t)j;
+        float reach = base + q_radius(s, j);
+        float dx = (float)(xi[0] - xj[0]), dy = (float)(xi[1] - xj[1]), dz = (float)(xi[2] - xj[2]);
+        if ((dx * dx + dy * dy) + dz * dz < reach * reach) {
             if (out) out[count] = j;
             count++;
         }
@@ -355,6 +451,79 @@ __attribute__((target("avx2"))) static uint32_t scan_avx2(const jam *s, size_t i
     }
     return scan_c(s, i, ri, reach_extra, j, e, out, count);
 }
+
+/* Eight spheres' single-precision (x, y, z, r0) records, a to d in the
+ * low halves and e to h in the high, as x, y, z and r0 of the eight in
+ * lanes a, b, c, d, e, f, g, h. */
+__attribute__((target("avx2"))) static inline void
+transpose8(const float *a, const float *b, const float *c, const float *d, const float *e,
+           const float *f, const float *g, const float *h, __m256 out[4]) {
+    __m256 p0 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(a)), _mm_load_ps(e), 1);
+    __m256 p1 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(b)), _mm_load_ps(f), 1);
+    __m256 p2 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(c)), _mm_load_ps(g), 1);
+    __m256 p3 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(d)), _mm_load_ps(h), 1);
+    __m256 t0 = _mm256_unpacklo_ps(p0, p1), t1 = _mm256_unpackhi_ps(p0, p1);
+    __m256 t2 = _mm256_unpacklo_ps(p2, p3), t3 = _mm256_unpackhi_ps(p2, p3);
+    out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+    out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
+    out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
+    out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+}
+
+/* x_i - x_j in the fixed point's units, exact, then rounded to float */
+__attribute__((target("avx2"))) static inline __m256 q_diff(__m256i xi, __m256 xj) {
+    return _mm256_cvtepi32_ps(_mm256_sub_epi32(xi, _mm256_castps_si256(xj)));
+}
+
+/* Stores j + the lanes of a 4-bit mask, packed to the front, at out;
+ * returns their count (four entries are written). */
+__attribute__((target("avx2"))) static inline uint32_t store_hits4(uint32_t *out, uint32_t j,
+                                                                   unsigned mb) {
+    __m128i idx = _mm_add_epi32(_mm_set1_epi32((int)j), _mm_setr_epi32(0, 1, 2, 3));
+    idx = _mm_shuffle_epi8(idx, _mm_loadu_si128((const __m128i *)compress_lut[mb]));
+    _mm_storeu_si128((__m128i *)(void *)out, idx);
+    return (uint32_t)__builtin_popcount(mb);
+}
+
+/* scan_q_c, eight candidates at a time; the last group's lanes past e are
+ * off (xq holds eight records of zeros past n for their loads). */
+__attribute__((target("avx2"))) static uint32_t scan_q_avx2(const jam *s, size_t i, float base,
+                                                            uint32_t a, uint32_t e, uint32_t *out,
+                                                            uint32_t count, int room4) {
+    const int32_t *xi = s->xq + 4 * i;
+    const __m256i xi0 = _mm256_set1_epi32(xi[0]), xi1 = _mm256_set1_epi32(xi[1]),
+                  xi2 = _mm256_set1_epi32(xi[2]);
+    const __m256 vb = _mm256_set1_ps(base);
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (uint32_t j = a; j < e; j += 8) {
+        const float *p = (const float *)(const void *)(s->xq + 4 * (size_t)j);
+        __m256 q[4];
+        transpose8(p, p + 4, p + 8, p + 12, p + 16, p + 20, p + 24, p + 28, q);
+        __m256 reach = _mm256_add_ps(vb, q[3]);
+        __m256 dx = q_diff(xi0, q[0]), dy = q_diff(xi1, q[1]), dz = q_diff(xi2, q[2]);
+        __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+                                  _mm256_mul_ps(dz, dz));
+        __m256 m = _mm256_cmp_ps(d2, _mm256_mul_ps(reach, reach), _CMP_LT_OQ);
+        m = _mm256_and_ps(m, _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                                 _mm256_set1_epi32((int)(e - j < 8 ? e - j : 8)), lanes)));
+        unsigned mb = (unsigned)_mm256_movemask_ps(m);
+        if (i >= j && i < (size_t)j + 8) mb &= ~(1u << (i - j));
+        if (!out) {
+            count += (uint32_t)__builtin_popcount(mb);
+            continue;
+        }
+        if (room4) {
+            count += store_hits4(out + count, j, mb & 15);
+            count += store_hits4(out + count, j + 4, mb >> 4);
+            continue;
+        }
+        while (mb) {
+            out[count++] = j + (uint32_t)__builtin_ctz(mb);
+            mb &= mb - 1;
+        }
+    }
+    return count;
+}
 #endif
 
 typedef struct build_pass {
@@ -375,8 +544,10 @@ static void build_chunk(void *user, size_t ci) {
     uint32_t room = b->fill == 2 ? s->est[ci] : 0, used = 0;
     int over = 0;
     for (size_t i = lo; i < hi; i++) {
-        const double *xi = s->x + 4 * i;
-        double ri = s->scale * R0(s, i);
+        double xi[3];
+        centre_of(s, i, xi);
+        double ri = s->scale * r0_of(s, i);
+        const float base = s->xq ? (float)((ri + reach_extra) / s->qres) : 0.0f;
         int c[3];
         for (int k = 0; k < 3; k++) {
             double t = (xi[k] - s->lo[k]) / s->cell;
@@ -401,11 +572,14 @@ static void build_chunk(void *user, size_t ci) {
                 }
 #ifdef VP_JAM_AVX2
                 if (s->avx2) {
-                    count = scan_avx2(s, i, ri, reach_extra, a, e, out, count, region != NULL);
+                    count =
+                        s->xq ? scan_q_avx2(s, i, base, a, e, out, count, region != NULL)
+                              : scan_avx2(s, i, ri, reach_extra, a, e, out, count, region != NULL);
                     continue;
                 }
 #endif
-                count = scan_c(s, i, ri, reach_extra, a, e, out, count);
+                count = s->xq ? scan_q_c(s, i, base, a, e, out, count)
+                              : scan_c(s, i, ri, reach_extra, a, e, out, count);
             }
         }
         used += count;
@@ -423,9 +597,9 @@ static void build_chunk(void *user, size_t ci) {
 }
 
 /* The list ends with NB_PAD entries of sphere 0, so that the pair forces
- * may load four entries where fewer are left (the lanes past the end are
+ * may load four (eight, in the quench) entries where fewer are left (the lanes past the end are
  * switched off). */
-#define NB_PAD 4
+#define NB_PAD 8
 
 /* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory).
  * After the first build, in one pass (each chunk into a region sized from
@@ -603,6 +777,104 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
 }
 #endif
 
+/* The quench's pair forces, in its units and single precision (float sums
+ * in eight lanes, entry k in lane k mod 8, added as ((l0 + l1) + (l2 +
+ * l3)) + ((l4 + l5) + (l6 + l7))): otherwise as pair_forces_c, but for
+ * dU/dscale, which the quench does not use (0). The differences of
+ * positions are exact in the fixed point, then rounded to float: about
+ * 1e-7 of a diameter. Forces out in the fixed point's units (force_chunk
+ * scales them). */
+/* inlined into the AVX2 form: a call from it would run legacy SSE code with
+ * the upper halves of its registers dirty, which costs a blend on every
+ * instruction until the next vzeroupper */
+static inline __attribute__((always_inline)) float lanes8_add(const float l[8]) {
+    return ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
+}
+
+static inline __attribute__((always_inline)) void lanes8_out(const float l[5][8], pair_sum *o) {
+    for (int k = 0; k < 3; k++) o->f[k] = lanes8_add(l[k]);
+    o->e = lanes8_add(l[3]);
+    o->duds = lanes8_add(l[4]);
+}
+
+static void pair_forces_q_c(const jam *s, size_t i, pair_sum *o) {
+    float l[5][8];
+    memset(l, 0, sizeof l);
+    const int32_t *xi = s->xq + 4 * i;
+    const float ri = q_radius(s, i) + (float)(s->gap / s->qres);
+    uint32_t k0 = s->off[i], e = s->off[i + 1];
+    for (uint32_t k = k0; k < e; k++) {
+        uint32_t j = s->nb[k];
+        int lane = (int)((k - k0) & 7);
+        const int32_t *xj = s->xq + 4 * (size_t)j;
+        float sij = ri + q_radius(s, j);
+        float dx = (float)(xi[0] - xj[0]), dy = (float)(xi[1] - xj[1]), dz = (float)(xi[2] - xj[2]);
+        float d2 = (dx * dx + dy * dy) + dz * dz;
+        if (!(d2 < sij * sij)) continue;
+        float d = sqrtf(d2), dl = sij - d;
+        if (d > 0) {
+            float g = dl / d;
+            l[0][lane] += g * dx;
+            l[1][lane] += g * dy;
+            l[2][lane] += g * dz;
+        } else {
+            l[0][lane] += i < j ? dl : -dl; /* coincident centres: apart along x */
+        }
+        l[3][lane] += 0.25f * (dl * dl);
+    }
+    lanes8_out(l, o);
+}
+
+#ifdef VP_JAM_AVX2
+__attribute__((target("avx2"))) static void pair_forces_q_avx2(const jam *s, size_t i,
+                                                               pair_sum *o) {
+    const int32_t *xi = s->xq + 4 * i;
+    const __m256i xi0 = _mm256_set1_epi32(xi[0]), xi1 = _mm256_set1_epi32(xi[1]),
+                  xi2 = _mm256_set1_epi32(xi[2]);
+    const __m256 ri = _mm256_set1_ps(q_radius(s, i) + (float)(s->gap / s->qres)),
+                 quarter = _mm256_set1_ps(0.25f), one = _mm256_set1_ps(1.0f),
+                 zero = _mm256_setzero_ps();
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    __m256 ax = zero, ay = zero, az = zero, ae = zero;
+    uint32_t k0 = s->off[i], e = s->off[i + 1];
+    for (uint32_t k = k0; k < e; k += 8) {
+        /* past the list's end: the next spheres' entries, or NB_PAD */
+        const uint32_t *J = s->nb + k;
+        const float *p = (const float *)(const void *)s->xq;
+        __m256 q[4];
+        transpose8(p + 4 * (size_t)J[0], p + 4 * (size_t)J[1], p + 4 * (size_t)J[2],
+                   p + 4 * (size_t)J[3], p + 4 * (size_t)J[4], p + 4 * (size_t)J[5],
+                   p + 4 * (size_t)J[6], p + 4 * (size_t)J[7], q);
+        __m256 sij = _mm256_add_ps(ri, q[3]);
+        __m256 dx = q_diff(xi0, q[0]), dy = q_diff(xi1, q[1]), dz = q_diff(xi2, q[2]);
+        __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+                                  _mm256_mul_ps(dz, dz));
+        __m256 m = _mm256_cmp_ps(d2, _mm256_mul_ps(sij, sij), _CMP_LT_OQ);
+        m = _mm256_and_ps(m, _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                                 _mm256_set1_epi32((int)(e - k < 8 ? e - k : 8)), lanes)));
+        if (!_mm256_movemask_ps(m)) continue;
+        if (_mm256_movemask_ps(_mm256_and_ps(m, _mm256_cmp_ps(d2, zero, _CMP_EQ_OQ)))) {
+            pair_forces_q_c(s, i, o); /* coincident centres: the portable form */
+            return;
+        }
+        __m256 d = _mm256_sqrt_ps(d2);
+        __m256 dl = _mm256_and_ps(_mm256_sub_ps(sij, d), m);
+        __m256 g = _mm256_div_ps(dl, _mm256_blendv_ps(one, d, m));
+        ax = _mm256_add_ps(ax, _mm256_mul_ps(g, dx));
+        ay = _mm256_add_ps(ay, _mm256_mul_ps(g, dy));
+        az = _mm256_add_ps(az, _mm256_mul_ps(g, dz));
+        ae = _mm256_add_ps(ae, _mm256_mul_ps(quarter, _mm256_mul_ps(dl, dl)));
+    }
+    float l[5][8];
+    _mm256_storeu_ps(l[0], ax);
+    _mm256_storeu_ps(l[1], ay);
+    _mm256_storeu_ps(l[2], az);
+    _mm256_storeu_ps(l[3], ae);
+    _mm256_storeu_ps(l[4], zero); /* no dU/dscale in the quench */
+    lanes8_out(l, o);
+}
+#endif
+
 static void force_chunk(void *user, size_t ci) {
     jam *s = user;
     size_t lo, hi;
@@ -610,26 +882,34 @@ static void force_chunk(void *user, size_t ci) {
     double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
     const double sc = s->scale;
     for (size_t i = lo; i < hi; i++) {
-        const double *xi = s->x + 4 * i;
-        double ri = sc * R0(s, i);
+        double r0i = r0_of(s, i), ri = sc * r0i;
         pair_sum ps;
 #ifdef VP_JAM_AVX2
-        if (s->avx2) pair_forces_avx2(s, i, &ps);
-        else
+        if (s->avx2) {
+            if (s->xq) pair_forces_q_avx2(s, i, &ps);
+            else pair_forces_avx2(s, i, &ps);
+        } else
 #endif
-            pair_forces_c(s, i, &ps);
+            if (s->xq)
+            pair_forces_q_c(s, i, &ps);
+        else pair_forces_c(s, i, &ps);
+        if (s->xq) {
+            for (int k = 0; k < 3; k++) ps.f[k] *= s->qres;
+            ps.e *= s->qres * s->qres;
+        }
         double fx = ps.f[0], fy = ps.f[1], fz = ps.f[2];
         e += ps.e;
         duds += ps.duds;
         if (s->near_wall[i]) {
-            double g[3];
+            double g[3], xi[3];
+            centre_of(s, i, xi);
             double w = wall_overlap(s, xi, ri, g);
             if (w > 0) {
                 fx -= w * g[0];
                 fy -= w * g[1];
                 fz -= w * g[2];
                 e += 0.5 * w * w;
-                if (s->fit == VP_FIT_INSIDE) duds += w * R0(s, i);
+                if (s->fit == VP_FIT_INSIDE) duds += w * r0i;
             }
         }
         float *fi = s->f + 3 * i;
@@ -657,15 +937,23 @@ static void move_chunk(void *user, size_t ci) {
     for (size_t i = lo; i < hi; i++) {
         float *vi = s->v + 3 * i;
         const float *fi = s->f + 3 * i;
-        double *xi = s->x + 4 * i;
         const float *xr = s->xr + 3 * i;
         double d2 = 0;
         for (int k = 0; k < 3; k++) {
             double v = s->zero_v ? 0.0 : a * vi[k] + b * fi[k];
             v += dt * fi[k];
             vi[k] = (float)v;
-            xi[k] += dt * v;
-            double d = xi[k] - xr[k];
+            double x;
+            if (s->xq) {
+                /* the move rounded to the fixed point's unit */
+                int32_t *q = s->xq + 4 * i + k;
+                int64_t m = (int64_t)*q + q_round(dt * v * s->qinv);
+                *q = m > Q_MAX ? Q_MAX : m < -Q_MAX ? -Q_MAX : (int32_t)m;
+                x = s->qc[k] + s->qres * (double)*q;
+            } else {
+                x = s->x[4 * i + k] += dt * v;
+            }
+            double d = x - xr[k];
             d2 += d * d;
         }
         if (d2 > dmax2) {
@@ -705,16 +993,18 @@ static sums add_up(const jam *s, int col_max4) {
 /* The energy of sphere i's pairs (but the one with `other`, which a swap
  * leaves as it is) and of its wall, with its unscaled radius a (e[0]) and
  * b (e[1]); dwall is the container's distance at its centre. */
-static void swap_energies(const jam *s, size_t i, uint32_t other, double a, double b,
-                          double dwall, double e[2]) {
-    const double *xi = s->x + 4 * i;
+static void swap_energies(const jam *s, size_t i, uint32_t other, double a, double b, double dwall,
+                          double e[2]) {
+    double xi[3];
+    centre_of(s, i, xi);
     const double sc = s->scale, ra = sc * a + s->gap, rb = sc * b + s->gap;
     double ea = 0, eb = 0;
     for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
         uint32_t j = s->nb[k];
         if (j == other) continue;
-        const double *xj = s->x + 4 * (size_t)j;
-        double sa = ra + sc * xj[3], sb = rb + sc * xj[3], sm = sa > sb ? sa : sb;
+        double xj[3], r0j = r0_of(s, j);
+        centre_of(s, j, xj);
+        double sa = ra + sc * r0j, sb = rb + sc * r0j, sm = sa > sb ? sa : sb;
         double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
         double d2 = dx * dx + dy * dy + dz * dz;
         if (!(d2 < sm * sm)) continue;
@@ -732,7 +1022,10 @@ static void swap_energies(const jam *s, size_t i, uint32_t other, double a, doub
 }
 
 static double centre_distance(const jam *s, size_t i) {
-    return s->near_wall[i] ? vp_container_distance(s->c, s->x + 4 * i) : 0.0;
+    if (!s->near_wall[i]) return 0.0;
+    double x[3];
+    centre_of(s, i, x);
+    return vp_container_distance(s->c, x);
 }
 
 /* One pass over the pairs of a list just built (no sphere has moved since),
@@ -751,14 +1044,14 @@ static int swap_radii(jam *s) {
         double wi = centre_distance(s, i);
         for (uint32_t k = s->off[i]; k < s->off[i + 1] && !done[i]; k++) {
             uint32_t j = s->nb[k];
-            double a = R0(s, i), b = R0(s, j), dr = sc * fabs(a - b);
+            double a = r0_of(s, i), b = r0_of(s, j), dr = sc * fabs(a - b);
             if (j <= i || done[j] || !(dr > 0) || dr > reach) continue;
             double ei[2], ej[2];
             swap_energies(s, i, j, a, b, wi, ei);
             swap_energies(s, j, (uint32_t)i, b, a, centre_distance(s, j), ej);
             if (!(ei[1] + ej[1] < ei[0] + ej[0])) continue;
-            R0(s, i) = b;
-            R0(s, j) = a;
+            set_r0(s, i, b);
+            set_r0(s, j, a);
             done[i] = done[j] = 1;
             if (dr > grown) grown = dr;
         }
@@ -1154,6 +1447,8 @@ static vp_result sphere_count(vp_context *ctx, const vp_container *c, const vp_j
 
 static void jam_free(jam *s) {
     free(s->x);
+    free(s->xq);
+    free(s->r0q);
     free(s->v);
     free(s->f);
     free(s->xr);
@@ -1162,6 +1457,57 @@ static void jam_free(jam *s) {
     free(s->nb);
     free(s->near_wall);
     free(s->cstart);
+}
+
+/* The quench runs in single precision: its records (xq, with eight of
+ * zeros past the last for the list build's eight-wide loads) and r0q
+ * from x, which is freed. 0, or -1 (out of memory). */
+static int enter_quench(jam *s) {
+    size_t n = s->n;
+    s->xq = aligned_alloc(64, (4 * (n + 8) * sizeof *s->xq + 63) / 64 * 64);
+    s->r0q = malloc(n * sizeof *s->r0q);
+    if (!s->xq || !s->r0q) return -1;
+    /* the unit: 2^31 of them reach twice the container's largest extent
+     * from its box's centre (further out the wall holds no sphere) */
+    const vp_container_info *ci = &s->c->info;
+    double ext = 0;
+    for (int k = 0; k < 3; k++) {
+        s->qc[k] = 0.5 * (ci->bmin[k] + ci->bmax[k]);
+        if (ci->bmax[k] - ci->bmin[k] > ext) ext = ci->bmax[k] - ci->bmin[k];
+    }
+    s->qres = ext / 1073741824.0;
+    s->qinv = 1073741824.0 / ext;
+    for (size_t i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++) s->xq[4 * i + k] = q_coord(s, k, s->x[4 * i + k]);
+        s->r0q[i] = s->x[4 * i + 3];
+        q_set_radius(s, i, s->r0q[i]);
+    }
+    memset(s->xq + 4 * n, 0, 32 * sizeof *s->xq);
+    free(s->x);
+    s->x = NULL;
+    return 0;
+}
+
+/* And back to double precision after it: x from xq and r0q (freed), and
+ * the list freed first (the next minimisation rebuilds it with its own
+ * skin), so that the two sets of records are never held beside it.
+ * 0, or -1 (out of memory). */
+static int leave_quench(jam *s) {
+    size_t n = s->n;
+    free(s->nb);
+    s->nb = NULL;
+    s->nb_cap = 0;
+    s->x = aligned_alloc(64, (4 * n * sizeof *s->x + 63) / 64 * 64);
+    if (!s->x) return -1;
+    for (size_t i = 0; i < n; i++) {
+        centre_of(s, i, s->x + 4 * i);
+        s->x[4 * i + 3] = s->r0q[i];
+    }
+    free(s->xq);
+    free(s->r0q);
+    s->xq = NULL;
+    s->r0q = NULL;
+    return 0;
 }
 
 /* Radii from the distribution and centres at random where a sphere of the
@@ -1262,7 +1608,8 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     /* 1. radii scaled to overfill the container, centres at random */
     double m3 = vp_size_dist_mean_cube(&P->radius);
     double vmean = 4.0 / 3.0 * M_PI * m3;
-    s.scale = cbrt(start_fraction(P) * room_share(&s, P->seed) * c->info.volume / ((double)n * vmean));
+    s.scale =
+        cbrt(start_fraction(P) * room_share(&s, P->seed) * c->info.volume / ((double)n * vmean));
     /* a gap makes each sphere take the room of one gap / 2 larger */
     const double no_gap = s.scale;
     s.scale -= 0.5 * P->gap / cbrt(m3);
@@ -1282,6 +1629,10 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     double mean_r0 = 0;
     for (size_t i = 0; i < n; i++) mean_r0 += R0(&s, i);
     mean_r0 /= (double)n;
+    if (enter_quench(&s) != 0) {
+        res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for %zu spheres", n);
+        goto done;
+    }
     int threads = vp_threads_for(ctx);
 #ifdef VP_JAM_AVX2
     const char *no_simd = getenv("VDBPACK_NO_SIMD");
@@ -1333,11 +1684,12 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
             res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
             goto done;
         }
-        if (rc != 0) {
+        if (rc != 0 || (mins == 0 && leave_quench(&s) != 0)) {
             res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
             goto done;
         }
-        worst = largest_overlap(&s, threads);
+        /* after the quench the next pressure does not depend on it */
+        if (mins > 0) worst = largest_overlap(&s, threads);
         if (!(s.scale > s.scale_lo && s.scale < s.scale_hi)) break;
         if (mins > 0 && worst <= FINISH_OVERLAP) break;
         /* the next pressure: the mean overlap falls with it in proportion */
