@@ -1461,12 +1461,11 @@ static void jam_free(jam *s) {
 
 /* The quench runs in single precision: its records (xq, with eight of
  * zeros past the last for the list build's eight-wide loads) and r0q
- * from x, which is freed. 0, or -1 (out of memory). */
-static int enter_quench(jam *s) {
+ * from x, which is freed; or, for spheres too small against the
+ * container for the fixed point, in double as after it (xq stays NULL).
+ * 0, or -1 (out of memory). */
+static int enter_quench(jam *s, double mean_r0) {
     size_t n = s->n;
-    s->xq = aligned_alloc(64, (4 * (n + 8) * sizeof *s->xq + 63) / 64 * 64);
-    s->r0q = malloc(n * sizeof *s->r0q);
-    if (!s->xq || !s->r0q) return -1;
     /* the unit: 2^31 of them reach twice the container's largest extent
      * from its box's centre (further out the wall holds no sphere) */
     const vp_container_info *ci = &s->c->info;
@@ -1475,8 +1474,16 @@ static int enter_quench(jam *s) {
         s->qc[k] = 0.5 * (ci->bmin[k] + ci->bmax[k]);
         if (ci->bmax[k] - ci->bmin[k] > ext) ext = ci->bmax[k] - ci->bmin[k];
     }
+    /* the quench stops at forces of about 1e-4 of a radius: with spheres
+     * under 1e5 units (a mean radius below 9.3e-5 of the extent: a long
+     * thin container), the unit would be too coarse for them, and the
+     * quench stays in double precision */
+    if (!(s->scale * mean_r0 * 1073741824.0 >= 1e5 * ext)) return 0;
     s->qres = ext / 1073741824.0;
     s->qinv = 1073741824.0 / ext;
+    s->xq = aligned_alloc(64, (4 * (n + 8) * sizeof *s->xq + 63) / 64 * 64);
+    s->r0q = malloc(n * sizeof *s->r0q);
+    if (!s->xq || !s->r0q) return -1;
     for (size_t i = 0; i < n; i++) {
         for (int k = 0; k < 3; k++) s->xq[4 * i + k] = q_coord(s, k, s->x[4 * i + k]);
         s->r0q[i] = s->x[4 * i + 3];
@@ -1494,6 +1501,7 @@ static int enter_quench(jam *s) {
  * 0, or -1 (out of memory). */
 static int leave_quench(jam *s) {
     size_t n = s->n;
+    if (!s->xq) return 0;
     free(s->nb);
     s->nb = NULL;
     s->nb_cap = 0;
@@ -1629,7 +1637,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     double mean_r0 = 0;
     for (size_t i = 0; i < n; i++) mean_r0 += R0(&s, i);
     mean_r0 /= (double)n;
-    if (enter_quench(&s) != 0) {
+    if (enter_quench(&s, mean_r0) != 0) {
         res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for %zu spheres", n);
         goto done;
     }
