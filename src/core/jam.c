@@ -717,7 +717,11 @@ static void pair_forces_c(const jam *s, size_t i, pair_sum *o) {
 }
 
 #ifdef VP_JAM_AVX2
-__attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_t i, pair_sum *o) {
+/* The AVX2 form of pair_forces_c: out = fx, fy, fz, energy, and *duds; 1
+ * (nothing out) where two centres coincide, for the portable form. The
+ * lanes are added as lanes_add does, by horizontal additions. */
+__attribute__((target("avx2"))) static inline __attribute__((always_inline)) int
+pair_forces_avx2(const jam *s, size_t i, __m256d *out, double *duds) {
     const double *xi = s->x + 4 * i;
     const double sc = s->scale;
     const __m256d xi0 = _mm256_set1_pd(xi[0]), xi1 = _mm256_set1_pd(xi[1]),
@@ -727,8 +731,6 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
                   half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
     __m256d ax = zero, ay = zero, az = zero, ae = zero, as = zero;
     uint32_t k0 = s->off[i], e = s->off[i + 1];
-    double l[5][4];
-    int fallback = 0;
     for (uint32_t k = k0; k < e; k += 4) {
         int live = (int)(e - k < 4 ? e - k : 4);
         /* four spheres' (x, y, z, r0), transposed to x, y, z, r0 of four */
@@ -751,10 +753,8 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
         m = _mm256_and_pd(m, on);
         int mb = _mm256_movemask_pd(m);
         if (!mb) continue;
-        if (_mm256_movemask_pd(_mm256_and_pd(m, _mm256_cmp_pd(d2, zero, _CMP_EQ_OQ)))) {
-            fallback = 1; /* coincident centres: the portable form */
-            break;
-        }
+        if (_mm256_movemask_pd(_mm256_and_pd(m, _mm256_cmp_pd(d2, zero, _CMP_EQ_OQ))))
+            return 1; /* coincident centres: the portable form */
         __m256d d = _mm256_sqrt_pd(d2);
         __m256d dl = _mm256_and_pd(_mm256_sub_pd(sij, d), m);
         __m256d g = _mm256_div_pd(dl, _mm256_blendv_pd(_mm256_set1_pd(1.0), d, m));
@@ -764,16 +764,13 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
         ae = _mm256_add_pd(ae, _mm256_mul_pd(quarter, _mm256_mul_pd(dl, dl)));
         as = _mm256_add_pd(as, _mm256_mul_pd(half, _mm256_mul_pd(dl, _mm256_add_pd(r0i, r0j))));
     }
-    if (fallback) {
-        pair_forces_c(s, i, o);
-        return;
-    }
-    _mm256_storeu_pd(l[0], ax);
-    _mm256_storeu_pd(l[1], ay);
-    _mm256_storeu_pd(l[2], az);
-    _mm256_storeu_pd(l[3], ae);
-    _mm256_storeu_pd(l[4], as);
-    lanes_add(l, o);
+    /* (l0 + l1) + (l2 + l3) of each, as lanes_add */
+    const __m256d h1 = _mm256_hadd_pd(ax, ay), h2 = _mm256_hadd_pd(az, ae);
+    *out =
+        _mm256_add_pd(_mm256_permute2f128_pd(h1, h2, 0x20), _mm256_permute2f128_pd(h1, h2, 0x31));
+    const __m256d hs = _mm256_hadd_pd(as, as);
+    *duds = _mm_cvtsd_f64(_mm_add_sd(_mm256_castpd256_pd128(hs), _mm256_extractf128_pd(hs, 1)));
+    return 0;
 }
 #endif
 
@@ -784,14 +781,11 @@ __attribute__((target("avx2"))) static void pair_forces_avx2(const jam *s, size_
  * positions are exact in the fixed point, then rounded to float: about
  * 1e-7 of a diameter. Forces out in the fixed point's units (force_chunk
  * scales them). */
-/* inlined into the AVX2 form: a call from it would run legacy SSE code with
- * the upper halves of its registers dirty, which costs a blend on every
- * instruction until the next vzeroupper */
-static inline __attribute__((always_inline)) float lanes8_add(const float l[8]) {
+static inline float lanes8_add(const float l[8]) {
     return ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
 }
 
-static inline __attribute__((always_inline)) void lanes8_out(const float l[5][8], pair_sum *o) {
+static inline void lanes8_out(const float l[5][8], pair_sum *o) {
     for (int k = 0; k < 3; k++) o->f[k] = lanes8_add(l[k]);
     o->e = lanes8_add(l[3]);
     o->duds = lanes8_add(l[4]);
@@ -826,8 +820,11 @@ static void pair_forces_q_c(const jam *s, size_t i, pair_sum *o) {
 }
 
 #ifdef VP_JAM_AVX2
-__attribute__((target("avx2"))) static void pair_forces_q_avx2(const jam *s, size_t i,
-                                                               pair_sum *o) {
+/* The AVX2 form of pair_forces_q_c: out = fx, fy, fz, energy (float lane
+ * sums, added as lanes8_add does, by horizontal additions); 1 (nothing out)
+ * where two centres coincide, for the portable form. */
+__attribute__((target("avx2"))) static inline __attribute__((always_inline)) int
+pair_forces_q_avx2(const jam *s, size_t i, __m128 *out) {
     const int32_t *xi = s->xq + 4 * i;
     const __m256i xi0 = _mm256_set1_epi32(xi[0]), xi1 = _mm256_set1_epi32(xi[1]),
                   xi2 = _mm256_set1_epi32(xi[2]);
@@ -853,10 +850,8 @@ __attribute__((target("avx2"))) static void pair_forces_q_avx2(const jam *s, siz
         m = _mm256_and_ps(m, _mm256_castsi256_ps(_mm256_cmpgt_epi32(
                                  _mm256_set1_epi32((int)(e - k < 8 ? e - k : 8)), lanes)));
         if (!_mm256_movemask_ps(m)) continue;
-        if (_mm256_movemask_ps(_mm256_and_ps(m, _mm256_cmp_ps(d2, zero, _CMP_EQ_OQ)))) {
-            pair_forces_q_c(s, i, o); /* coincident centres: the portable form */
-            return;
-        }
+        if (_mm256_movemask_ps(_mm256_and_ps(m, _mm256_cmp_ps(d2, zero, _CMP_EQ_OQ))))
+            return 1; /* coincident centres: the portable form */
         __m256 d = _mm256_sqrt_ps(d2);
         __m256 dl = _mm256_and_ps(_mm256_sub_ps(sij, d), m);
         __m256 g = _mm256_div_ps(dl, _mm256_blendv_ps(one, d, m));
@@ -865,13 +860,90 @@ __attribute__((target("avx2"))) static void pair_forces_q_avx2(const jam *s, siz
         az = _mm256_add_ps(az, _mm256_mul_ps(g, dz));
         ae = _mm256_add_ps(ae, _mm256_mul_ps(quarter, _mm256_mul_ps(dl, dl)));
     }
-    float l[5][8];
-    _mm256_storeu_ps(l[0], ax);
-    _mm256_storeu_ps(l[1], ay);
-    _mm256_storeu_ps(l[2], az);
-    _mm256_storeu_ps(l[3], ae);
-    _mm256_storeu_ps(l[4], zero); /* no dU/dscale in the quench */
-    lanes8_out(l, o);
+    /* ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) of each */
+    const __m256 h = _mm256_hadd_ps(_mm256_hadd_ps(ax, ay), _mm256_hadd_ps(az, ae));
+    *out = _mm_add_ps(_mm256_castps256_ps128(h), _mm256_extractf128_ps(h, 1));
+    return 0;
+}
+#endif
+
+/* The wall's force and energy on sphere i (near it), added to f (x, y, z),
+ * *e and *duds. */
+static void wall_force(const jam *s, size_t i, double f[3], double *e, double *duds) {
+    const double r0i = r0_of(s, i), ri = s->scale * r0i;
+    double g[3], xi[3];
+    centre_of(s, i, xi);
+    double w = wall_overlap(s, xi, ri, g);
+    if (w > 0) {
+        f[0] -= w * g[0];
+        f[1] -= w * g[1];
+        f[2] -= w * g[2];
+        *e += 0.5 * w * w;
+        if (s->fit == VP_FIT_INSIDE) *duds += w * r0i;
+    }
+}
+
+#ifdef VP_JAM_AVX2
+/* force_chunk's loop for the spheres [lo, hi) with the AVX2 kernels inlined:
+ * the same arithmetic in the same order. out: energy, F.v, F.F, v.v,
+ * dU/dscale. */
+__attribute__((target("avx2"))) static void force_range_avx2(jam *s, size_t lo, size_t hi,
+                                                             double out[5]) {
+    double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
+    const __m256d qs = _mm256_set_pd(s->qres * s->qres, s->qres, s->qres, s->qres);
+    const __m128i m3 = _mm_setr_epi32(-1, -1, -1, 0);
+    for (size_t i = lo; i < hi; i++) {
+        __m256d F; /* fx, fy, fz, energy */
+        if (s->xq) {
+            __m128 q;
+            if (!pair_forces_q_avx2(s, i, &q)) {
+                F = _mm256_mul_pd(_mm256_cvtps_pd(q), qs);
+            } else {
+                pair_sum ps;
+                _mm256_zeroupper();
+                pair_forces_q_c(s, i, &ps);
+                F = _mm256_mul_pd(_mm256_setr_pd(ps.f[0], ps.f[1], ps.f[2], ps.e), qs);
+            }
+            /* no dU/dscale in the quench */
+        } else {
+            double d;
+            if (pair_forces_avx2(s, i, &F, &d)) {
+                pair_sum ps;
+                _mm256_zeroupper();
+                pair_forces_c(s, i, &ps);
+                F = _mm256_setr_pd(ps.f[0], ps.f[1], ps.f[2], ps.e);
+                d = ps.duds;
+            }
+            duds += d;
+        }
+        const __m128d fz_e = _mm256_extractf128_pd(F, 1);
+        e += _mm_cvtsd_f64(_mm_unpackhi_pd(fz_e, fz_e));
+        if (s->near_wall[i]) {
+            double f[3];
+            _mm_storeu_pd(f, _mm256_castpd256_pd128(F));
+            f[2] = _mm_cvtsd_f64(fz_e);
+            _mm256_zeroupper();
+            wall_force(s, i, f, &e, &duds);
+            F = _mm256_setr_pd(f[0], f[1], f[2], 0.0);
+        } else {
+            F = _mm256_blend_pd(F, _mm256_setzero_pd(), 0x8);
+        }
+        _mm_maskstore_ps(s->f + 3 * i, m3, _mm256_cvtpd_ps(F));
+        const __m256d V = _mm256_cvtps_pd(_mm_maskload_ps(s->v + 3 * i, m3));
+        /* (p0 + p1) + p2 of F.v, F.F and v.v (the fourth lanes 0) */
+        const __m256d h = _mm256_hadd_pd(_mm256_mul_pd(F, V), _mm256_mul_pd(F, F));
+        const __m128d t = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
+        const __m256d hv = _mm256_hadd_pd(_mm256_mul_pd(V, V), _mm256_mul_pd(V, V));
+        const __m128d tv = _mm_add_pd(_mm256_castpd256_pd128(hv), _mm256_extractf128_pd(hv, 1));
+        fv += _mm_cvtsd_f64(t);
+        ff += _mm_cvtsd_f64(_mm_unpackhi_pd(t, t));
+        vv += _mm_cvtsd_f64(tv);
+    }
+    out[0] = e;
+    out[1] = fv;
+    out[2] = ff;
+    out[3] = vv;
+    out[4] = duds;
 }
 #endif
 
@@ -879,46 +951,39 @@ static void force_chunk(void *user, size_t ci) {
     jam *s = user;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
-    double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
-    const double sc = s->scale;
-    for (size_t i = lo; i < hi; i++) {
-        double r0i = r0_of(s, i), ri = sc * r0i;
-        pair_sum ps;
 #ifdef VP_JAM_AVX2
-        if (s->avx2) {
-            if (s->xq) pair_forces_q_avx2(s, i, &ps);
-            else pair_forces_avx2(s, i, &ps);
-        } else
+    if (s->avx2) {
+        double o[5];
+        force_range_avx2(s, lo, hi, o);
+        s->sum[ci][0] = o[0];
+        s->sum[ci][1] = o[1];
+        s->sum[ci][2] = o[2];
+        s->sum[ci][3] = o[3];
+        s->sum[ci][6] = o[4];
+        return;
+    }
 #endif
-            if (s->xq)
-            pair_forces_q_c(s, i, &ps);
-        else pair_forces_c(s, i, &ps);
+    double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
+    for (size_t i = lo; i < hi; i++) {
+        pair_sum ps;
         if (s->xq) {
+            pair_forces_q_c(s, i, &ps);
             for (int k = 0; k < 3; k++) ps.f[k] *= s->qres;
             ps.e *= s->qres * s->qres;
+        } else {
+            pair_forces_c(s, i, &ps);
         }
-        double fx = ps.f[0], fy = ps.f[1], fz = ps.f[2];
+        double f[3] = {ps.f[0], ps.f[1], ps.f[2]};
         e += ps.e;
         duds += ps.duds;
-        if (s->near_wall[i]) {
-            double g[3], xi[3];
-            centre_of(s, i, xi);
-            double w = wall_overlap(s, xi, ri, g);
-            if (w > 0) {
-                fx -= w * g[0];
-                fy -= w * g[1];
-                fz -= w * g[2];
-                e += 0.5 * w * w;
-                if (s->fit == VP_FIT_INSIDE) duds += w * r0i;
-            }
-        }
+        if (s->near_wall[i]) wall_force(s, i, f, &e, &duds);
         float *fi = s->f + 3 * i;
         const float *vi = s->v + 3 * i;
-        fi[0] = (float)fx;
-        fi[1] = (float)fy;
-        fi[2] = (float)fz;
-        fv += fx * vi[0] + fy * vi[1] + fz * vi[2];
-        ff += fx * fx + fy * fy + fz * fz;
+        fi[0] = (float)f[0];
+        fi[1] = (float)f[1];
+        fi[2] = (float)f[2];
+        fv += f[0] * vi[0] + f[1] * vi[1] + f[2] * vi[2];
+        ff += f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
         vv += (double)vi[0] * vi[0] + (double)vi[1] * vi[1] + (double)vi[2] * vi[2];
     }
     s->sum[ci][0] = e;
@@ -928,39 +993,159 @@ static void force_chunk(void *user, size_t ci) {
     s->sum[ci][6] = duds;
 }
 
+/* One sphere's FIRE move: v <- (1 - alpha) v + vscale F (or 0), v += dt F,
+ * x += dt v (in the quench, the move rounded to the fixed point's unit).
+ * Returns its squared displacement since the list's build. */
+static double move_one_c(jam *s, size_t i, double a, double b, double dt) {
+    float *vi = s->v + 3 * i;
+    const float *fi = s->f + 3 * i;
+    const float *xr = s->xr + 3 * i;
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double v = s->zero_v ? 0.0 : a * vi[k] + b * fi[k];
+        v += dt * fi[k];
+        vi[k] = (float)v;
+        double x;
+        if (s->xq) {
+            /* the move rounded to the fixed point's unit */
+            int32_t *q = s->xq + 4 * i + k;
+            int64_t m = (int64_t)*q + q_round(dt * v * s->qinv);
+            *q = m > Q_MAX ? Q_MAX : m < -Q_MAX ? -Q_MAX : (int32_t)m;
+            x = s->qc[k] + s->qres * (double)*q;
+        } else {
+            x = s->x[4 * i + k] += dt * v;
+        }
+        double d = x - xr[k];
+        d2 += d * d;
+    }
+    return d2;
+}
+
+/* the two largest of a chunk's squared displacements */
+static inline void keep_two(double d2, double *dmax, double *dmax2) {
+    if (d2 > *dmax2) {
+        *dmax2 = d2 > *dmax ? *dmax : d2;
+        if (d2 > *dmax) *dmax = d2;
+    }
+}
+
+#ifdef VP_JAM_AVX2
+/* Four spheres' three floats (twelve, as loaded: a = x0 y0 z0 x1, b = y1 z1
+ * x2 y2, c = z2 x3 y3 z3) one sphere a register, x y z and 0. */
+__attribute__((target("avx2"))) static inline void split3(__m128 a, __m128 b, __m128 c,
+                                                          __m128 out[4]) {
+    const __m128 m3 = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128i ai = _mm_castps_si128(a), bi = _mm_castps_si128(b), ci = _mm_castps_si128(c);
+    out[0] = _mm_and_ps(a, m3);
+    out[1] = _mm_and_ps(_mm_castsi128_ps(_mm_alignr_epi8(bi, ai, 12)), m3);
+    out[2] = _mm_and_ps(_mm_castsi128_ps(_mm_alignr_epi8(ci, bi, 8)), m3);
+    out[3] = _mm_castsi128_ps(_mm_srli_si128(ci, 4));
+}
+
+/* and back: four spheres' x y z (the fourth lane ignored) as twelve floats */
+__attribute__((target("avx2"))) static inline void join3(const __m128 p[4], float *out) {
+    _mm_storeu_ps(out, _mm_blend_ps(p[0], _mm_permute_ps(p[1], 0x00), 0x8));
+    _mm_storeu_ps(out + 4, _mm_shuffle_ps(p[1], p[2], _MM_SHUFFLE(1, 0, 2, 1)));
+    _mm_storeu_ps(out + 8, _mm_blend_ps(_mm_permute_ps(p[3], _MM_SHUFFLE(2, 1, 0, 0)),
+                                        _mm_permute_ps(p[2], _MM_SHUFFLE(2, 2, 2, 2)), 0x1));
+}
+
+/* move_one_c for the spheres [lo, hi), four at a time, each one's three
+ * components in three lanes of four (the fourth 0): the same double
+ * arithmetic in the same order (no FMA), so the same packing; whole
+ * 48-byte groups of v, f and xr are loaded and stored (a masked store
+ * would stall the next sphere's load). In the fixed point, the lanes'
+ * 32-bit sums cannot overflow while |move| < 2^29 units and |position| <=
+ * 2^30; a group outside that (never seen), and the last spheres of the
+ * range short of four, move by move_one_c. */
+__attribute__((target("avx2"))) static void move_range_avx2(jam *s, size_t lo, size_t hi, double a,
+                                                            double b, double dt, double *dmax,
+                                                            double *dmax2) {
+    const __m256d va = _mm256_set1_pd(a), vb = _mm256_set1_pd(b), vdt = _mm256_set1_pd(dt);
+    const int zero_v = s->zero_v;
+    int32_t *const xq = s->xq;
+    double *const xd = s->x;
+    float *const vel = s->v;
+    const float *const force = s->f, *const xr = s->xr;
+    const __m256d qinv = _mm256_set1_pd(s->qinv), qres = _mm256_set1_pd(s->qres),
+                  qc = _mm256_set_pd(0.0, s->qc[2], s->qc[1], s->qc[0]),
+                  umax = _mm256_set1_pd(536870912.0), sign = _mm256_set1_pd(-0.0);
+    const __m128i qmax = _mm_set1_epi32(1 << 30), m3 = _mm_setr_epi32(-1, -1, -1, 0);
+    size_t i = lo;
+    for (; i + 4 <= hi; i += 4) {
+        __m128 vk[4], fk[4], rk[4];
+        split3(_mm_loadu_ps(vel + 3 * i), _mm_loadu_ps(vel + 3 * i + 4),
+               _mm_loadu_ps(vel + 3 * i + 8), vk);
+        split3(_mm_loadu_ps(force + 3 * i), _mm_loadu_ps(force + 3 * i + 4),
+               _mm_loadu_ps(force + 3 * i + 8), fk);
+        split3(_mm_loadu_ps(xr + 3 * i), _mm_loadu_ps(xr + 3 * i + 4), _mm_loadu_ps(xr + 3 * i + 8),
+               rk);
+        __m256d v[4];
+        for (int k = 0; k < 4; k++) {
+            const __m256d f = _mm256_cvtps_pd(fk[k]);
+            __m256d w = zero_v ? _mm256_setzero_pd()
+                               : _mm256_add_pd(_mm256_mul_pd(va, _mm256_cvtps_pd(vk[k])),
+                                               _mm256_mul_pd(vb, f));
+            v[k] = _mm256_add_pd(w, _mm256_mul_pd(vdt, f));
+        }
+        __m256d x[4];
+        if (xq) {
+            /* rounded as q_round: the processor's rounding, half to even */
+            __m256d u[4];
+            __m128i qi[4];
+            int bad = 0;
+            for (int k = 0; k < 4; k++) {
+                u[k] = _mm256_mul_pd(_mm256_mul_pd(vdt, v[k]), qinv);
+                qi[k] = _mm_load_si128((const __m128i *)(const void *)(xq + 4 * (i + k)));
+                bad |= _mm256_movemask_pd(
+                           _mm256_cmp_pd(_mm256_andnot_pd(sign, u[k]), umax, _CMP_NLT_UQ)) |
+                       (_mm_movemask_epi8(_mm_cmpgt_epi32(_mm_abs_epi32(qi[k]), qmax)) & 0xfff);
+            }
+            if (bad) {
+                _mm256_zeroupper(); /* into legacy SSE code */
+                for (int k = 0; k < 4; k++) keep_two(move_one_c(s, i + k, a, b, dt), dmax, dmax2);
+                continue;
+            }
+            for (int k = 0; k < 4; k++) {
+                qi[k] = _mm_add_epi32(qi[k], _mm_and_si128(_mm256_cvtpd_epi32(u[k]), m3));
+                _mm_store_si128((__m128i *)(void *)(xq + 4 * (i + k)), qi[k]);
+                x[k] = _mm256_add_pd(qc, _mm256_mul_pd(qres, _mm256_cvtepi32_pd(qi[k])));
+            }
+        } else {
+            /* the fourth lane adds 0 to r0 */
+            for (int k = 0; k < 4; k++) {
+                double *p = xd + 4 * (i + k);
+                x[k] = _mm256_add_pd(_mm256_load_pd(p), _mm256_mul_pd(vdt, v[k]));
+                _mm256_store_pd(p, x[k]);
+            }
+        }
+        __m128 vf[4];
+        for (int k = 0; k < 4; k++) {
+            vf[k] = _mm256_cvtpd_ps(v[k]);
+            const __m256d d = _mm256_sub_pd(x[k], _mm256_cvtps_pd(rk[k]));
+            const __m256d d2 = _mm256_mul_pd(d, d);
+            const __m128d l = _mm256_castpd256_pd128(d2), h = _mm256_extractf128_pd(d2, 1);
+            keep_two(_mm_cvtsd_f64(_mm_add_sd(_mm_add_sd(l, _mm_unpackhi_pd(l, l)), h)), dmax,
+                     dmax2);
+        }
+        join3(vf, vel + 3 * i);
+    }
+    _mm256_zeroupper(); /* into legacy SSE code */
+    for (; i < hi; i++) keep_two(move_one_c(s, i, a, b, dt), dmax, dmax2);
+}
+#endif
+
 static void move_chunk(void *user, size_t ci) {
     jam *s = user;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
     const double dt = s->dt, a = 1.0 - s->alpha, b = s->vscale;
     double dmax = 0, dmax2 = 0;
-    for (size_t i = lo; i < hi; i++) {
-        float *vi = s->v + 3 * i;
-        const float *fi = s->f + 3 * i;
-        const float *xr = s->xr + 3 * i;
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double v = s->zero_v ? 0.0 : a * vi[k] + b * fi[k];
-            v += dt * fi[k];
-            vi[k] = (float)v;
-            double x;
-            if (s->xq) {
-                /* the move rounded to the fixed point's unit */
-                int32_t *q = s->xq + 4 * i + k;
-                int64_t m = (int64_t)*q + q_round(dt * v * s->qinv);
-                *q = m > Q_MAX ? Q_MAX : m < -Q_MAX ? -Q_MAX : (int32_t)m;
-                x = s->qc[k] + s->qres * (double)*q;
-            } else {
-                x = s->x[4 * i + k] += dt * v;
-            }
-            double d = x - xr[k];
-            d2 += d * d;
-        }
-        if (d2 > dmax2) {
-            dmax2 = d2 > dmax ? dmax : d2;
-            if (d2 > dmax) dmax = d2;
-        }
-    }
+#ifdef VP_JAM_AVX2
+    if (s->avx2) move_range_avx2(s, lo, hi, a, b, dt, &dmax, &dmax2);
+    else
+#endif
+        for (size_t i = lo; i < hi; i++) keep_two(move_one_c(s, i, a, b, dt), &dmax, &dmax2);
     s->sum[ci][4] = dmax;
     s->sum[ci][5] = dmax2;
 }
