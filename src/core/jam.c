@@ -55,6 +55,7 @@
 #include <string.h>
 
 #define NCHUNK 256 /* at most; n / 512 for fewer spheres, never fewer than 1 */
+#define XSPLIT 2   /* list cells: the reach in y and z, half of it in x */
 /* FIRE (Bitzek et al. 2006, their Table I) in units where k = m = 1; the
  * largest step is near the stability limit of the stiffest contacts
  * (2 / sqrt(12)), which FIRE's restarts keep in check */
@@ -142,7 +143,7 @@ typedef struct jam {
     uint8_t over[NCHUNK];
     int have_tot; /* tot holds the last build's */
     /* the cell grid of list builds */
-    double lo[3], cell;
+    double lo[3], cell, csize[3]; /* the reach; the cells' sizes (x: cell / XSPLIT) */
     int dims[3];
     uint32_t *cstart; /* cells + 1 */
     size_t ncells;
@@ -258,26 +259,31 @@ static double wall_overlap(const jam *s, const double *x, double r, double g[3])
 static size_t cell_of(const jam *s, const double *x) {
     int c[3];
     for (int k = 0; k < 3; k++) {
-        double t = (x[k] - s->lo[k]) / s->cell;
+        double t = (x[k] - s->lo[k]) / s->csize[k];
         int i = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
         c[k] = i;
     }
     return ((size_t)c[2] * (size_t)s->dims[1] + (size_t)c[1]) * (size_t)s->dims[0] + (size_t)c[0];
 }
 
-/* Sets the grid for cells of at least `cell` (the largest pair reach),
- * over the container's box grown by it, with at most about 8n cells. */
+/* Sets the grid for cells of at least `cell` (the largest pair reach) in y
+ * and z and a XSPLIT-th of it in x, over the container's box grown by it,
+ * with at most about 8 XSPLIT n cells. A sphere's candidates are then the
+ * 3 x 3 rows of 2 XSPLIT + 1 cells around its own: a sixth fewer than in
+ * rows of three whole cells, and rows short enough to fill the list
+ * build's eight lanes better. */
 static int grid_init(jam *s, double cell) {
     const vp_container_info *ci = &s->c->info;
     for (;;) {
         double cells = 1;
         for (int k = 0; k < 3; k++) {
             s->lo[k] = ci->bmin[k] - cell;
-            double d = ceil((ci->bmax[k] - ci->bmin[k] + 2 * cell) / cell);
+            s->csize[k] = k == 0 ? cell / XSPLIT : cell;
+            double d = ceil((ci->bmax[k] - ci->bmin[k] + 2 * cell) / s->csize[k]);
             s->dims[k] = d < 1 ? 1 : d > 1e6 ? 1000000 : (int)d;
             cells *= s->dims[k];
         }
-        if (cells <= 8.0 * (double)s->n + 64) break;
+        if (cells <= 8.0 * XSPLIT * (double)s->n + 64) break;
         cell *= 1.25;
     }
     s->cell = cell;
@@ -550,7 +556,7 @@ static void build_chunk(void *user, size_t ci) {
         const float base = s->xq ? (float)((ri + reach_extra) / s->qres) : 0.0f;
         int c[3];
         for (int k = 0; k < 3; k++) {
-            double t = (xi[k] - s->lo[k]) / s->cell;
+            double t = (xi[k] - s->lo[k]) / s->csize[k];
             c[k] = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
         }
         uint32_t k_out = b->fill ? s->off[i] : 0, count = 0;
@@ -561,7 +567,8 @@ static void build_chunk(void *user, size_t ci) {
                 int y = c[1] + dy;
                 if (y < 0 || y >= s->dims[1]) continue;
                 size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
-                int x0 = c[0] > 0 ? c[0] - 1 : 0, x1 = c[0] + 1 < s->dims[0] ? c[0] + 1 : c[0];
+                int x0 = c[0] > XSPLIT ? c[0] - XSPLIT : 0,
+                    x1 = c[0] + XSPLIT < s->dims[0] ? c[0] + XSPLIT : s->dims[0] - 1;
                 uint32_t a = s->cstart[row + (size_t)x0], e = s->cstart[row + (size_t)x1 + 1];
                 uint32_t *out = b->fill == 1 ? s->nb + k_out : NULL;
                 if (region && !over) {
