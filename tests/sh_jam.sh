@@ -51,10 +51,12 @@ done
 # 2. the same file on 1 and 2 threads, and with the portable pair and
 # list kernels (VDBPACK_NO_SIMD=1) as with the AVX2 ones; metadata
 # (by VDBPACK_THREADS, in folders: the command line is in the file).
-# 3000 spheres: 5 chunks of work (one per 512 spheres), so the threads
-# share the chunks and their sums meet
+# 3001 spheres: 5 chunks of work (one per 512 spheres), so the threads
+# share the chunks and their sums meet; chunks of 601 and 597 spheres, so
+# the AVX2 move's groups of four leave one sphere of each to the portable
+# code
 mkdir -p a b s
-jam3k="box:1,1,1 --method jam --count 3000 --radius lognormal:0.01:0.003"
+jam3k="box:1,1,1 --method jam --count 3001 --radius lognormal:0.01:0.003"
 (cd a && VDBPACK_THREADS=1 "$VDBPACK" pack $jam3k -o t.vdb -q)
 (cd b && VDBPACK_THREADS=2 "$VDBPACK" pack $jam3k -o t.vdb -q)
 (cd s && VDBPACK_THREADS=2 VDBPACK_NO_SIMD=1 "$VDBPACK" pack $jam3k -o t.vdb -q)

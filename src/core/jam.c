@@ -27,8 +27,10 @@
  * radii grown) by half the skin; the wall is sampled only for spheres the
  * list build found within reach of it; the pair forces, and the list
  * build's distance tests, take four list entries (candidates) at a time
- * (AVX2 where the processor has it, the same arithmetic without); a build
- * after the first is one pass over the cells, not a count and a fill.
+ * (AVX2 where the processor has it, the same arithmetic without; the FIRE
+ * move and the force pass's sums too); the list's cells are half the reach
+ * in x, so a row of candidates fills the lanes better; a build after the
+ * first is one pass over the cells, not a count and a fill.
  * The quench, two thirds of the steps, keeps 16-byte records instead:
  * positions in fixed point (32-bit integers, a unit of 2^-30 of the
  * container's largest extent) and the scaled radius as a float, so that
