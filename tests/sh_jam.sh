@@ -70,6 +70,16 @@ for k in "method = jam" mean_contacts rattler_fraction max_overlap radius_scale;
 done
 echo "  ok: the same file on 1 and 2 threads and without SIMD; metadata names the method and its report"
 
+# the quench's list build copies the nine rows of cells around each row
+# into plain arrays, unless they hold more than 8 192 spheres: in a long
+# thin box every set of rows does, and the spheres' records are scanned
+# as before. Either way the portable code's lists, so the same file.
+long="box:350,1,1 --method jam --count 10000 --seed 2"
+"$VDBPACK" pack $long -o long1.csv -q || die "the long box did not pack"
+VDBPACK_NO_SIMD=1 "$VDBPACK" pack $long -o long2.csv -q || die "the long box did not pack (portable)"
+cmp long1.csv long2.csv || die "the long box: the AVX2 and the portable code give different files"
+echo "  ok: a long thin box (rows too long for the arrays) packs the same file without SIMD"
+
 # 3. --margin and --gap: `check` holds the file to both, and to neither
 # doubled; a mesh container's band reaches the margin's depth
 for cont in box:1,1,1 "$VP_SRC/vdb_samples/peanut.obj"; do
