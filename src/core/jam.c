@@ -599,29 +599,43 @@ __attribute__((target("avx2"))) static inline uint32_t store_hits4(uint32_t *out
     return (uint32_t)__builtin_popcount(mb);
 }
 
+/* The list test of eight candidates j .. j + 7 (x, y, z in the fixed
+ * point, the scaled radius) against sphere i (xi, base = r_i + the reach's
+ * extra): the mask of those within reach, lanes from e on and i itself
+ * off. Both scans use it, so their lists are the same. */
+__attribute__((target("avx2"))) static inline __attribute__((always_inline)) unsigned
+q_hits8(size_t i, const __m256i xi[3], __m256 base, __m256i x, __m256i y, __m256i z, __m256 r,
+        uint32_t j, uint32_t e) {
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    __m256 reach = _mm256_add_ps(base, r);
+    __m256 dx = _mm256_cvtepi32_ps(_mm256_sub_epi32(xi[0], x)),
+           dy = _mm256_cvtepi32_ps(_mm256_sub_epi32(xi[1], y)),
+           dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(xi[2], z));
+    __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+                              _mm256_mul_ps(dz, dz));
+    __m256 m = _mm256_cmp_ps(d2, _mm256_mul_ps(reach, reach), _CMP_LT_OQ);
+    m = _mm256_and_ps(m, _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                             _mm256_set1_epi32((int)(e - j < 8 ? e - j : 8)), lanes)));
+    unsigned mb = (unsigned)_mm256_movemask_ps(m);
+    if (i >= j && i < (size_t)j + 8) mb &= ~(1u << (i - j));
+    return mb;
+}
+
 /* scan_q_c, eight candidates at a time; the last group's lanes past e are
  * off (xq holds eight records of zeros past n for their loads). */
 __attribute__((target("avx2"))) static uint32_t scan_q_avx2(const jam *s, size_t i, float base,
                                                             uint32_t a, uint32_t e, uint32_t *out,
                                                             uint32_t count, int room4) {
     const int32_t *xi = s->xq + 4 * i;
-    const __m256i xi0 = _mm256_set1_epi32(xi[0]), xi1 = _mm256_set1_epi32(xi[1]),
-                  xi2 = _mm256_set1_epi32(xi[2]);
+    const __m256i vxi[3] = {_mm256_set1_epi32(xi[0]), _mm256_set1_epi32(xi[1]),
+                            _mm256_set1_epi32(xi[2])};
     const __m256 vb = _mm256_set1_ps(base);
-    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     for (uint32_t j = a; j < e; j += 8) {
         const float *p = (const float *)(const void *)(s->xq + 4 * (size_t)j);
         __m256 q[4];
         transpose8(p, p + 4, p + 8, p + 12, p + 16, p + 20, p + 24, p + 28, q);
-        __m256 reach = _mm256_add_ps(vb, q[3]);
-        __m256 dx = q_diff(xi0, q[0]), dy = q_diff(xi1, q[1]), dz = q_diff(xi2, q[2]);
-        __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
-                                  _mm256_mul_ps(dz, dz));
-        __m256 m = _mm256_cmp_ps(d2, _mm256_mul_ps(reach, reach), _CMP_LT_OQ);
-        m = _mm256_and_ps(m, _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-                                 _mm256_set1_epi32((int)(e - j < 8 ? e - j : 8)), lanes)));
-        unsigned mb = (unsigned)_mm256_movemask_ps(m);
-        if (i >= j && i < (size_t)j + 8) mb &= ~(1u << (i - j));
+        unsigned mb = q_hits8(i, vxi, vb, _mm256_castps_si256(q[0]), _mm256_castps_si256(q[1]),
+                              _mm256_castps_si256(q[2]), q[3], j, e);
         if (!out) {
             count += (uint32_t)__builtin_popcount(mb);
             continue;
@@ -649,10 +663,9 @@ __attribute__((target("avx2"))) static uint32_t
 scan_rows_q_avx2(const jam *s, const qrows *rb, size_t i, float base, int x0, int x1, uint32_t *out,
                  uint32_t room, int mode, int *over) {
     const int32_t *xi = s->xq + 4 * i;
-    const __m256i xi0 = _mm256_set1_epi32(xi[0]), xi1 = _mm256_set1_epi32(xi[1]),
-                  xi2 = _mm256_set1_epi32(xi[2]);
+    const __m256i vxi[3] = {_mm256_set1_epi32(xi[0]), _mm256_set1_epi32(xi[1]),
+                            _mm256_set1_epi32(xi[2])};
     const __m256 vb = _mm256_set1_ps(base);
-    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const size_t st = (size_t)rb->cap + ROWS_PAD;
     const int32_t *X = rb->buf, *Y = X + st, *Z = Y + st;
     const float *R = (const float *)(const void *)(Z + st);
@@ -667,20 +680,11 @@ scan_rows_q_avx2(const jam *s, const qrows *rb, size_t i, float base, int x0, in
         const uint32_t shift = rb->at[r] - rb->first[r]; /* buffer entry of sphere j: j + shift */
         for (uint32_t j = a; j < e; j += 8) {
             const uint32_t b = j + shift;
-            __m256 reach = _mm256_add_ps(vb, _mm256_loadu_ps(R + b));
-            __m256 dx = _mm256_cvtepi32_ps(_mm256_sub_epi32(
-                       xi0, _mm256_loadu_si256((const __m256i *)(const void *)(X + b)))),
-                   dy = _mm256_cvtepi32_ps(_mm256_sub_epi32(
-                       xi1, _mm256_loadu_si256((const __m256i *)(const void *)(Y + b)))),
-                   dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(
-                       xi2, _mm256_loadu_si256((const __m256i *)(const void *)(Z + b))));
-            __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
-                                      _mm256_mul_ps(dz, dz));
-            __m256 m = _mm256_cmp_ps(d2, _mm256_mul_ps(reach, reach), _CMP_LT_OQ);
-            m = _mm256_and_ps(m, _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-                                     _mm256_set1_epi32((int)(e - j < 8 ? e - j : 8)), lanes)));
-            unsigned mb = (unsigned)_mm256_movemask_ps(m);
-            if (i >= j && i < (size_t)j + 8) mb &= ~(1u << (i - j));
+            unsigned mb =
+                q_hits8(i, vxi, vb, _mm256_loadu_si256((const __m256i *)(const void *)(X + b)),
+                        _mm256_loadu_si256((const __m256i *)(const void *)(Y + b)),
+                        _mm256_loadu_si256((const __m256i *)(const void *)(Z + b)),
+                        _mm256_loadu_ps(R + b), j, e);
             if (mode == 0) {
                 count += (uint32_t)__builtin_popcount(mb);
             } else if (mode == 2) {
