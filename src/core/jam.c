@@ -435,6 +435,10 @@ typedef struct qrows {
     int32_t *buf;      /* x, y, z and the radius's bits, cap + ROWS_PAD apart */
 } qrows;
 
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#define VP_JAM_AVX2 1
+
 /* Whether rb holds the rows around (y, z), filling it if they are new to
  * it: 0 when they hold more than ROWS_CAP spheres or no memory is left
  * for them (the caller scans the records). rb owns buf, the caller frees
@@ -489,9 +493,6 @@ static int qrows_hold(const jam *s, qrows *rb, int y, int z) {
     return 1;
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#include <immintrin.h>
-#define VP_JAM_AVX2 1
 /* The byte shuffle that packs the lanes of a 4-bit mask to the front, in order. */
 static const uint8_t compress_lut[16][16] = {
     {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3},
