@@ -269,13 +269,16 @@ static double wall_overlap(const jam *s, const double *x, double r, double g[3])
 
 /* ---- the neighbour list ------------------------------------------------ */
 
+/* the cell along axis k holding coordinate x (the grid's edge cells
+ * hold what lies beyond) */
+static inline int cell_along(const jam *s, int k, double x) {
+    double t = (x - s->lo[k]) / s->csize[k];
+    return t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
+}
+
 static size_t cell_of(const jam *s, const double *x) {
     int c[3];
-    for (int k = 0; k < 3; k++) {
-        double t = (x[k] - s->lo[k]) / s->csize[k];
-        int i = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
-        c[k] = i;
-    }
+    for (int k = 0; k < 3; k++) c[k] = cell_along(s, k, x[k]);
     return ((size_t)c[2] * (size_t)s->dims[1] + (size_t)c[1]) * (size_t)s->dims[0] + (size_t)c[0];
 }
 
@@ -738,10 +741,7 @@ static void build_chunk(void *user, size_t ci) {
         double ri = s->scale * r0_of(s, i);
         const float base = s->xq ? (float)((ri + reach_extra) / s->qres) : 0.0f;
         int c[3];
-        for (int k = 0; k < 3; k++) {
-            double t = (xi[k] - s->lo[k]) / s->csize[k];
-            c[k] = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
-        }
+        for (int k = 0; k < 3; k++) c[k] = cell_along(s, k, xi[k]);
         uint32_t k_out = b->fill ? s->off[i] : 0, count = 0;
         int rows = 0; /* scanned from rb */
 #ifdef VP_JAM_AVX2
@@ -1463,6 +1463,47 @@ static int swap_radii(jam *s) {
     return 0;
 }
 
+/* Calls visit(s, i, j, user) for every sphere j != i whose build
+ * position's cell lies within R of sphere i's build position on each
+ * axis, until one returns non-zero; returns that (else 0). */
+typedef int (*pair_visit)(const jam *s, size_t i, uint32_t j, void *user);
+
+static int visit_near_build(const jam *s, size_t i, double R, pair_visit visit, void *user) {
+    int c0[3], c1[3];
+    for (int k = 0; k < 3; k++) {
+        c0[k] = cell_along(s, k, s->xr[3 * i + k] - R);
+        c1[k] = cell_along(s, k, s->xr[3 * i + k] + R);
+    }
+    for (int z = c0[2]; z <= c1[2]; z++)
+        for (int y = c0[1]; y <= c1[1]; y++) {
+            size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
+            uint32_t e = s->cstart[row + (size_t)c1[0] + 1];
+            for (uint32_t j = s->cstart[row + (size_t)c0[0]]; j < e; j++) {
+                int r = j != i ? visit(s, i, j, user) : 0;
+                if (r) return r;
+            }
+        }
+    return 0;
+}
+
+typedef struct lack_visit {
+    double xi[3];
+    long pairs;
+} lack_visit;
+
+static int lacks_visit(const jam *s, size_t i, uint32_t j, void *user) {
+    lack_visit *v = user;
+    double xj[3], d2 = 0;
+    centre_of(s, j, xj);
+    for (int k = 0; k < 3; k++) d2 += (v->xi[k] - xj[k]) * (v->xi[k] - xj[k]);
+    double reach = s->scale * (r0_of(s, i) + r0_of(s, j)) + s->gap;
+    if (d2 >= reach * reach) return 0;
+    v->pairs++;
+    uint32_t k = s->off[i];
+    while (k < s->off[i + 1] && s->nb[k] != j) k++;
+    return k == s->off[i + 1];
+}
+
 /* The check VDBPACK_JAM_CHECK_LISTS asks for (tests): whether a pair in
  * reach now (centres closer than r_i + r_j + gap) is missing from the
  * list, found without list_still_holds's reasoning: every sphere against
@@ -1471,36 +1512,15 @@ static int swap_radii(jam *s) {
  * of its own. Counts the lists and pairs checked. */
 static int list_lacks_pair(jam *s, double m) {
     const double R = (2 * s->scale * s->r0max + s->gap + 2 * m) * (1 + 1e-5);
+    lack_visit v = {{0, 0, 0}, 0};
+    int lacks = 0;
     s->lists_checked++;
-    for (size_t i = 0; i < s->n; i++) {
-        double xi[3];
-        centre_of(s, i, xi);
-        int c0[3], c1[3];
-        for (int k = 0; k < 3; k++) {
-            double t0 = (s->xr[3 * i + k] - R - s->lo[k]) / s->csize[k];
-            double t1 = (s->xr[3 * i + k] + R - s->lo[k]) / s->csize[k];
-            c0[k] = t0 < 0 ? 0 : t0 >= s->dims[k] ? s->dims[k] - 1 : (int)t0;
-            c1[k] = t1 < 0 ? 0 : t1 >= s->dims[k] ? s->dims[k] - 1 : (int)t1;
-        }
-        for (int z = c0[2]; z <= c1[2]; z++)
-            for (int y = c0[1]; y <= c1[1]; y++) {
-                size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
-                uint32_t a = s->cstart[row + (size_t)c0[0]];
-                uint32_t e = s->cstart[row + (size_t)c1[0] + 1];
-                for (uint32_t j = a; j < e; j++) {
-                    double xj[3], d2 = 0;
-                    centre_of(s, j, xj);
-                    for (int k = 0; k < 3; k++) d2 += (xi[k] - xj[k]) * (xi[k] - xj[k]);
-                    double reach = s->scale * (r0_of(s, i) + r0_of(s, j)) + s->gap;
-                    if (j == i || d2 >= reach * reach) continue;
-                    s->pairs_checked++;
-                    uint32_t k = s->off[i];
-                    while (k < s->off[i + 1] && s->nb[k] != j) k++;
-                    if (k == s->off[i + 1]) return 1;
-                }
-            }
+    for (size_t i = 0; i < s->n && !lacks; i++) {
+        centre_of(s, i, v.xi);
+        lacks = visit_near_build(s, i, R, lacks_visit, &v);
     }
-    return 0;
+    s->pairs_checked += v.pairs;
+    return lacks;
 }
 
 /* What the list's pairs may have lost since the build without any
@@ -1509,6 +1529,27 @@ static int list_lacks_pair(jam *s, double m) {
 static double list_grown(const jam *s) {
     double grow = s->scale > s->s_build ? 2.0 * (s->scale - s->s_build) * s->r0max : 0.0;
     return grow + s->swap_grow;
+}
+
+typedef struct hold_visit {
+    double xi[3], di[3], ri, g;
+} hold_visit;
+
+/* 1 when far sphere i and j are in reach now and may have closed in by
+ * more than the skin allows */
+static int breaks_visit(const jam *s, size_t i, uint32_t j, void *user) {
+    const hold_visit *v = user;
+    const float *rj0 = s->xr + 3 * (size_t)j;
+    double xj[3], rel2 = 0, dist2 = 0;
+    centre_of(s, j, xj);
+    for (int k = 0; k < 3; k++) {
+        double u = v->di[k] - (xj[k] - rj0[k]), w = v->xi[k] - xj[k];
+        rel2 += u * u;
+        dist2 += w * w;
+    }
+    if (sqrt(rel2) + v->g <= s->skin) return 0;
+    double reach = (v->ri + s->scale * r0_of(s, j) + s->gap) * (1 + 1e-6);
+    return dist2 < reach * reach;
 }
 
 /* Whether the list still holds every pair within reach although the two
@@ -1531,44 +1572,21 @@ static int list_still_holds(const jam *s, double g, double m) {
     for (size_t c = 0; c < s->nchunk; c++)
         for (uint32_t f = 0; f < s->nfar[c]; f++) {
             size_t i = s->far[c * FAR_CAP + f];
-            const float *ri0 = s->xr + 3 * i;
-            double xi[3], di[3], d2 = 0;
-            centre_of(s, i, xi);
+            hold_visit v;
+            double d2 = 0;
+            centre_of(s, i, v.xi);
             for (int k = 0; k < 3; k++) {
-                di[k] = xi[k] - ri0[k];
-                d2 += di[k] * di[k];
+                v.di[k] = v.xi[k] - s->xr[3 * i + k];
+                d2 += v.di[k] * v.di[k];
             }
             double dl = sqrt(d2);
             if (!s->near_wall[i] && dl + g > s->skin) return 0;
+            v.ri = s->scale * r0_of(s, i);
+            v.g = g;
             /* partners were within this of i at the build (and the
              * floats' rounding) */
-            double R = (2 * rmax + s->gap + dl + m) * (1 + 1e-5), ri = s->scale * r0_of(s, i);
-            int c0[3], c1[3];
-            for (int k = 0; k < 3; k++) {
-                double t0 = (ri0[k] - R - s->lo[k]) / s->csize[k];
-                double t1 = (ri0[k] + R - s->lo[k]) / s->csize[k];
-                c0[k] = t0 < 0 ? 0 : t0 >= s->dims[k] ? s->dims[k] - 1 : (int)t0;
-                c1[k] = t1 < 0 ? 0 : t1 >= s->dims[k] ? s->dims[k] - 1 : (int)t1;
-            }
-            for (int z = c0[2]; z <= c1[2]; z++)
-                for (int y = c0[1]; y <= c1[1]; y++) {
-                    size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
-                    uint32_t a = s->cstart[row + (size_t)c0[0]];
-                    uint32_t e = s->cstart[row + (size_t)c1[0] + 1];
-                    for (uint32_t j = a; j < e; j++) {
-                        const float *rj0 = s->xr + 3 * (size_t)j;
-                        double xj[3], rel2 = 0, dist2 = 0;
-                        centre_of(s, j, xj);
-                        for (int k = 0; k < 3; k++) {
-                            double u = di[k] - (xj[k] - rj0[k]), w = xi[k] - xj[k];
-                            rel2 += u * u;
-                            dist2 += w * w;
-                        }
-                        if (j == i || sqrt(rel2) + g <= s->skin) continue;
-                        double reach = (ri + s->scale * r0_of(s, j) + s->gap) * (1 + 1e-6);
-                        if (dist2 < reach * reach) return 0;
-                    }
-                }
+            double R = (2 * rmax + s->gap + dl + m) * (1 + 1e-5);
+            if (visit_near_build(s, i, R, breaks_visit, &v)) return 0;
         }
     return 1;
 }
