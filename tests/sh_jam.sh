@@ -80,26 +80,6 @@ VDBPACK_NO_SIMD=1 "$VDBPACK" pack $long -o long2.csv -q || die "the long box did
 cmp long1.csv long2.csv || die "the long box: the AVX2 and the portable code give different files"
 echo "  ok: a long thin box (rows too long for the arrays) packs the same file without SIMD"
 
-# the list is kept past the two largest displacements added while no
-# sphere has moved half the skin against a neighbour (list_still_holds):
-# VDBPACK_JAM_CHECK_LISTS=1 checks every list so kept by brute force (a
-# pair in reach missing from it fails the pack) and counts them; each
-# case must have kept lists (the test would pass vacuously otherwise).
-# Walls of a box, a sphere and a level set; swaps (lognormal radii); a
-# gap; a margin; the portable code.
-for spec in "box:1,1,1 --count 3000" "sphere:1 --count 3000 --radius lognormal:0.05:0.012" \
-            "box:1,1,1 --count 3000 --radius list:0.01:0.01:0.01:0.01:0.01:0.01:0.01:0.01:0.02 --gap 0.0005" \
-            "$VP_SRC/vdb_samples/peanut.obj --count 1500" "box:1,1,1 --count 3000 --margin 0.02 --gap 0.001" \
-            "NO_SIMD box:1,1,1 --count 2000 --seed 3"; do
-  env=VDBPACK_JAM_CHECK_LISTS=1
-  case "$spec" in NO_SIMD*) env="$env VDBPACK_NO_SIMD=1"; spec=${spec#NO_SIMD }; esac
-  # shellcheck disable=SC2086
-  env $env "$VDBPACK" pack $spec --method jam -o kept.csv -q 2>kept.txt || die "$spec: $(cat kept.txt)"
-  kept=$(sed -n 's/^vdbpack: jam: \([0-9]*\) neighbour lists kept and checked, [0-9]* pairs in reach, none missing$/\1/p' kept.txt)
-  [ -n "$kept" ] && [ "$kept" -gt 0 ] || die "$spec: no kept list checked: $(cat kept.txt)"
-  echo "  ok: $spec ($env): $(cat kept.txt)"
-done
-
 # 3. --margin and --gap: `check` holds the file to both, and to neither
 # doubled; a mesh container's band reaches the margin's depth
 for cont in box:1,1,1 "$VP_SRC/vdb_samples/peanut.obj"; do
