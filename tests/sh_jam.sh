@@ -71,14 +71,43 @@ done
 echo "  ok: the same file on 1 and 2 threads and without SIMD; metadata names the method and its report"
 
 # the quench's list build copies the nine rows of cells around each row
-# into plain arrays, unless they hold more than 8 192 spheres: in a long
-# thin box every set of rows does, and the spheres' records are scanned
-# as before. Either way the portable code's lists, so the same file.
-long="box:350,1,1 --method jam --count 10000 --seed 2"
-"$VDBPACK" pack $long -o long1.csv -q || die "the long box did not pack"
-VDBPACK_NO_SIMD=1 "$VDBPACK" pack $long -o long2.csv -q || die "the long box did not pack (portable)"
-cmp long1.csv long2.csv || die "the long box: the AVX2 and the portable code give different files"
-echo "  ok: a long thin box (rows too long for the arrays) packs the same file without SIMD"
+# into plain arrays, unless they hold more than 8 192 spheres (a long
+# thin box: every set of rows does), and then scans the spheres' records
+# as before. VDBPACK_JAM_ROWS_CAP lowers that bound: 0 sends every set of
+# rows the second way, 200 the middle ones only (nine rows of about 30
+# spheres here; the box's edges and corners hold four or six). Either
+# way the portable code's lists, so the same file. (A long box itself,
+# box:350,1,1 with 10 000 spheres, takes from 12 000 to 600 000 FIRE
+# steps by the seed: too slow, by chance, for a test.)
+rows="box:1,1,1 --method jam --count 3000 --seed 2"
+VDBPACK_NO_SIMD=1 "$VDBPACK" pack $rows -o rows_c.csv -q || die "the rows case did not pack (portable)"
+for cap in "" 0 200; do
+  VDBPACK_JAM_ROWS_CAP=$cap "$VDBPACK" pack $rows -o rows_${cap:-default}.csv -q ||
+    die "the rows case did not pack (VDBPACK_JAM_ROWS_CAP=$cap)"
+  cmp rows_c.csv rows_${cap:-default}.csv ||
+    die "sets of rows over $cap spheres: the AVX2 and the portable code give different files"
+done
+echo "  ok: sets of rows too long for the arrays (all, or the middle ones) pack the same file without SIMD"
+
+# the list is kept past the two largest displacements added while no
+# sphere has moved half the skin against a neighbour (list_still_holds):
+# VDBPACK_JAM_CHECK_LISTS=1 checks every list so kept by brute force (a
+# pair in reach missing from it fails the pack) and counts them; each
+# case must have kept lists (the test would pass vacuously otherwise).
+# Walls of a box, a sphere and a level set; swaps (lognormal radii); a
+# gap; a margin; the portable code.
+for spec in "box:1,1,1 --count 3000" "sphere:1 --count 3000 --radius lognormal:0.05:0.012" \
+            "box:1,1,1 --count 3000 --radius list:0.01:0.01:0.01:0.01:0.01:0.01:0.01:0.01:0.02 --gap 0.0005" \
+            "$VP_SRC/vdb_samples/peanut.obj --count 1500" "box:1,1,1 --count 3000 --margin 0.02 --gap 0.001" \
+            "NO_SIMD box:1,1,1 --count 2000 --seed 3"; do
+  env=VDBPACK_JAM_CHECK_LISTS=1
+  case "$spec" in NO_SIMD*) env="$env VDBPACK_NO_SIMD=1"; spec=${spec#NO_SIMD }; esac
+  # shellcheck disable=SC2086
+  env $env "$VDBPACK" pack $spec --method jam -o kept.csv -q 2>kept.txt || die "$spec: $(cat kept.txt)"
+  kept=$(sed -n 's/^vdbpack: jam: \([0-9]*\) neighbour lists kept and checked, [0-9]* pairs in reach, none missing$/\1/p' kept.txt)
+  [ -n "$kept" ] && [ "$kept" -gt 0 ] || die "$spec: no kept list checked: $(cat kept.txt)"
+  echo "  ok: $spec ($env): $(cat kept.txt)"
+done
 
 # 3. --margin and --gap: `check` holds the file to both, and to neither
 # doubled; a mesh container's band reaches the margin's depth

@@ -23,8 +23,10 @@
  *
  * Speed: positions (with r0) are kept in cell order (re-sorted when the
  * neighbour list is rebuilt), the list holds every pair within
- * r_i + r_j + skin and is rebuilt only when a sphere has moved (or the
- * radii grown) by half the skin; the wall is sampled only for spheres the
+ * r_i + r_j + skin and is rebuilt only when a sphere may have closed in
+ * on another by the skin (the radii's growth counted): the two largest
+ * displacements added, and past that each sphere that moved over half
+ * the skin against its neighbours (list_still_holds); the wall is sampled only for spheres the
  * list build found within reach of it; the pair forces, and the list
  * build's distance tests, take four list entries (candidates) at a time
  * (AVX2 where the processor has it, the same arithmetic without; the FIRE
@@ -53,10 +55,13 @@
 #endif
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define NCHUNK 256 /* at most; n / 512 for fewer spheres, never fewer than 1 */
+#define FAR_CAP 64 /* far spheres a chunk's step keeps (disp_track); more: the list is rebuilt */
+#define FAR_SEEN 8 /* far spheres checked since a build, at most n / FAR_SEEN: then rebuilt */
 #define XSPLIT 2   /* list cells: the reach in y and z, half of it in x */
 /* FIRE (Bitzek et al. 2006, their Table I) in units where k = m = 1; the
  * largest step is near the stability limit of the stiffest contacts
@@ -165,6 +170,16 @@ typedef struct jam {
      * largest radius change they made since the list's build */
     int swap;
     double swap_grow;
+    /* the spheres moved more than half the skin left, each chunk's
+     * (FAR_CAP apart; how many, which may be more than it holds) */
+    double far2;
+    uint32_t *far;
+    uint32_t nfar[NCHUNK];
+    double xr_err;     /* a displacement's error from xr's rounding, at most (xr_rounding) */
+    size_t far_seen;   /* far spheres list_still_holds checked since the build */
+    uint32_t rows_cap; /* ROWS_CAP, or less under VDBPACK_JAM_ROWS_CAP (tests) */
+    int check_lists;   /* VDBPACK_JAM_CHECK_LISTS: kept lists checked, how many and pairs */
+    long lists_checked, pairs_checked;
 } jam;
 
 /* the radius of sphere i before scaling: r_i = scale R0(s, i) (after the
@@ -258,13 +273,16 @@ static double wall_overlap(const jam *s, const double *x, double r, double g[3])
 
 /* ---- the neighbour list ------------------------------------------------ */
 
+/* the cell along axis k holding coordinate x (the grid's edge cells
+ * hold what lies beyond) */
+static inline int cell_along(const jam *s, int k, double x) {
+    double t = (x - s->lo[k]) / s->csize[k];
+    return t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
+}
+
 static size_t cell_of(const jam *s, const double *x) {
     int c[3];
-    for (int k = 0; k < 3; k++) {
-        double t = (x[k] - s->lo[k]) / s->csize[k];
-        int i = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
-        c[k] = i;
-    }
+    for (int k = 0; k < 3; k++) c[k] = cell_along(s, k, x[k]);
     return ((size_t)c[2] * (size_t)s->dims[1] + (size_t)c[1]) * (size_t)s->dims[0] + (size_t)c[0];
 }
 
@@ -465,7 +483,7 @@ static int qrows_hold(const jam *s, qrows *rb, int y, int z) {
             nrow++;
         }
     }
-    if (total > ROWS_CAP) return 0;
+    if (total > s->rows_cap) return 0;
     if (total > rb->cap || !rb->buf) {
         uint32_t cap = total < 512                    ? 512
                        : total + total / 4 < ROWS_CAP ? total + total / 4
@@ -727,10 +745,7 @@ static void build_chunk(void *user, size_t ci) {
         double ri = s->scale * r0_of(s, i);
         const float base = s->xq ? (float)((ri + reach_extra) / s->qres) : 0.0f;
         int c[3];
-        for (int k = 0; k < 3; k++) {
-            double t = (xi[k] - s->lo[k]) / s->csize[k];
-            c[k] = t < 0 ? 0 : t >= s->dims[k] ? s->dims[k] - 1 : (int)t;
-        }
+        for (int k = 0; k < 3; k++) c[k] = cell_along(s, k, xi[k]);
         uint32_t k_out = b->fill ? s->off[i] : 0, count = 0;
         int rows = 0; /* scanned from rb */
 #ifdef VP_JAM_AVX2
@@ -806,6 +821,7 @@ static int build_list(jam *s, int threads) {
         return -1;
     s->s_build = s->scale;
     s->swap_grow = 0;
+    s->far_seen = 0;
     if (sort_by_cell(s, threads) != 0) return -1;
     build_pass b = {s, 2};
     s->off[0] = 0;
@@ -1215,11 +1231,24 @@ static double move_one_c(jam *s, size_t i, double a, double b, double dt) {
     return d2;
 }
 
-/* the two largest of a chunk's squared displacements */
-static inline void keep_two(double d2, double *dmax, double *dmax2) {
-    if (d2 > *dmax2) {
-        *dmax2 = d2 > *dmax ? *dmax : d2;
-        if (d2 > *dmax) *dmax = d2;
+/* A chunk's displacements since the list's build, as its spheres move:
+ * the two largest (squared) and the spheres past the half of the skin
+ * the list has left (the far ones, which maybe_rebuild checks against
+ * their neighbours). */
+typedef struct disp_track {
+    double dmax, dmax2, far2; /* far2: the far ones' squared displacement */
+    uint32_t *far;            /* FAR_CAP entries, owned by the jam */
+    uint32_t nfar;            /* may pass FAR_CAP: then not all are held */
+} disp_track;
+
+static inline void track(disp_track *t, size_t i, double d2) {
+    if (d2 > t->dmax2) {
+        t->dmax2 = d2 > t->dmax ? t->dmax : d2;
+        if (d2 > t->dmax) t->dmax = d2;
+    }
+    if (d2 > t->far2) {
+        if (t->nfar < FAR_CAP) t->far[t->nfar] = (uint32_t)i;
+        t->nfar++;
     }
 }
 
@@ -1253,8 +1282,7 @@ __attribute__((target("avx2"))) static inline void join3(const __m128 p[4], floa
  * 2^30; a group outside that (never seen), and the last spheres of the
  * range short of four, move by move_one_c. */
 __attribute__((target("avx2"))) static void move_range_avx2(jam *s, size_t lo, size_t hi, double a,
-                                                            double b, double dt, double *dmax,
-                                                            double *dmax2) {
+                                                            double b, double dt, disp_track *t) {
     const __m256d va = _mm256_set1_pd(a), vb = _mm256_set1_pd(b), vdt = _mm256_set1_pd(dt);
     const int zero_v = s->zero_v;
     int32_t *const xq = s->xq;
@@ -1297,7 +1325,7 @@ __attribute__((target("avx2"))) static void move_range_avx2(jam *s, size_t lo, s
             }
             if (bad) {
                 _mm256_zeroupper(); /* into legacy SSE code */
-                for (int k = 0; k < 4; k++) keep_two(move_one_c(s, i + k, a, b, dt), dmax, dmax2);
+                for (int k = 0; k < 4; k++) track(t, i + k, move_one_c(s, i + k, a, b, dt));
                 continue;
             }
             for (int k = 0; k < 4; k++) {
@@ -1319,13 +1347,12 @@ __attribute__((target("avx2"))) static void move_range_avx2(jam *s, size_t lo, s
             const __m256d d = _mm256_sub_pd(x[k], _mm256_cvtps_pd(rk[k]));
             const __m256d d2 = _mm256_mul_pd(d, d);
             const __m128d l = _mm256_castpd256_pd128(d2), h = _mm256_extractf128_pd(d2, 1);
-            keep_two(_mm_cvtsd_f64(_mm_add_sd(_mm_add_sd(l, _mm_unpackhi_pd(l, l)), h)), dmax,
-                     dmax2);
+            track(t, i + k, _mm_cvtsd_f64(_mm_add_sd(_mm_add_sd(l, _mm_unpackhi_pd(l, l)), h)));
         }
         join3(vf, vel + 3 * i);
     }
     _mm256_zeroupper(); /* into legacy SSE code */
-    for (; i < hi; i++) keep_two(move_one_c(s, i, a, b, dt), dmax, dmax2);
+    for (; i < hi; i++) track(t, i, move_one_c(s, i, a, b, dt));
 }
 #endif
 
@@ -1334,14 +1361,15 @@ static void move_chunk(void *user, size_t ci) {
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
     const double dt = s->dt, a = 1.0 - s->alpha, b = s->vscale;
-    double dmax = 0, dmax2 = 0;
+    disp_track t = {0, 0, s->far2, s->far + ci * FAR_CAP, 0};
 #ifdef VP_JAM_AVX2
-    if (s->avx2) move_range_avx2(s, lo, hi, a, b, dt, &dmax, &dmax2);
+    if (s->avx2) move_range_avx2(s, lo, hi, a, b, dt, &t);
     else
 #endif
-        for (size_t i = lo; i < hi; i++) keep_two(move_one_c(s, i, a, b, dt), &dmax, &dmax2);
-    s->sum[ci][4] = dmax;
-    s->sum[ci][5] = dmax2;
+        for (size_t i = lo; i < hi; i++) track(&t, i, move_one_c(s, i, a, b, dt));
+    s->sum[ci][4] = t.dmax;
+    s->sum[ci][5] = t.dmax2;
+    s->nfar[ci] = t.nfar;
 }
 
 typedef struct sums {
@@ -1440,14 +1468,171 @@ static int swap_radii(jam *s) {
     return 0;
 }
 
-/* Rebuilds the list when two spheres may have closed in on each other,
- * or the radii grown, by more than the skin allows (the two largest
- * displacements since the build added: any pair has moved together by
- * at most that much): 0 or -1 (out of memory). */
-static int maybe_rebuild(jam *s, int threads, const double disp2[2], int *builds) {
+/* Calls visit(s, i, j, user) for every sphere j != i whose build
+ * position's cell lies within R of sphere i's build position on each
+ * axis, until one returns non-zero; returns that (else 0). */
+typedef int (*pair_visit)(const jam *s, size_t i, uint32_t j, void *user);
+
+static int visit_near_build(const jam *s, size_t i, double R, pair_visit visit, void *user) {
+    int c0[3], c1[3];
+    for (int k = 0; k < 3; k++) {
+        c0[k] = cell_along(s, k, s->xr[3 * i + k] - R);
+        c1[k] = cell_along(s, k, s->xr[3 * i + k] + R);
+    }
+    for (int z = c0[2]; z <= c1[2]; z++)
+        for (int y = c0[1]; y <= c1[1]; y++) {
+            size_t row = ((size_t)z * s->dims[1] + (size_t)y) * s->dims[0];
+            uint32_t e = s->cstart[row + (size_t)c1[0] + 1];
+            for (uint32_t j = s->cstart[row + (size_t)c0[0]]; j < e; j++) {
+                int r = j != i ? visit(s, i, j, user) : 0;
+                if (r) return r;
+            }
+        }
+    return 0;
+}
+
+typedef struct lack_visit {
+    double xi[3];
+    long pairs;
+} lack_visit;
+
+static int lacks_visit(const jam *s, size_t i, uint32_t j, void *user) {
+    lack_visit *v = user;
+    double xj[3], d2 = 0;
+    centre_of(s, j, xj);
+    for (int k = 0; k < 3; k++) d2 += (v->xi[k] - xj[k]) * (v->xi[k] - xj[k]);
+    double reach = s->scale * (r0_of(s, i) + r0_of(s, j)) + s->gap;
+    if (d2 >= reach * reach) return 0;
+    v->pairs++;
+    uint32_t k = s->off[i];
+    while (k < s->off[i + 1] && s->nb[k] != j) k++;
+    return k == s->off[i + 1];
+}
+
+/* The check VDBPACK_JAM_CHECK_LISTS asks for (tests): whether a pair in
+ * reach now (centres closer than r_i + r_j + gap) is missing from the
+ * list, found without list_still_holds's reasoning: every sphere against
+ * every other whose build position lay within the largest reach and
+ * twice the largest displacement m (which no pair in reach can exceed)
+ * of its own. Counts the lists and pairs checked. */
+static int list_lacks_pair(jam *s, double m) {
+    const double R = (2 * s->scale * s->r0max + s->gap + 2 * m) * (1 + 1e-5);
+    lack_visit v = {{0, 0, 0}, 0};
+    int lacks = 0;
+    s->lists_checked++;
+    for (size_t i = 0; i < s->n && !lacks; i++) {
+        centre_of(s, i, v.xi);
+        lacks = visit_near_build(s, i, R, lacks_visit, &v);
+    }
+    s->pairs_checked += v.pairs;
+    return lacks;
+}
+
+/* What the list's pairs may have lost since the build without any
+ * sphere moving: twice the growth of the largest radius (the scale's and
+ * the swaps'). */
+static double list_grown(const jam *s) {
     double grow = s->scale > s->s_build ? 2.0 * (s->scale - s->s_build) * s->r0max : 0.0;
-    double moved = sqrt(disp2[0]) + sqrt(disp2[1]) + grow + s->swap_grow;
-    if (moved <= s->skin) return 0;
+    return grow + s->swap_grow;
+}
+
+typedef struct hold_visit {
+    double xi[3], di[3], ri, g;
+} hold_visit;
+
+/* 1 when far sphere i and j are in reach now and may have closed in by
+ * more than the skin allows */
+static int breaks_visit(const jam *s, size_t i, uint32_t j, void *user) {
+    const hold_visit *v = user;
+    const float *rj0 = s->xr + 3 * (size_t)j;
+    double xj[3], rel2 = 0, dist2 = 0;
+    centre_of(s, j, xj);
+    for (int k = 0; k < 3; k++) {
+        double u = v->di[k] - (xj[k] - rj0[k]), w = v->xi[k] - xj[k];
+        rel2 += u * u;
+        dist2 += w * w;
+    }
+    if (sqrt(rel2) + v->g + 2 * s->xr_err <= s->skin) return 0;
+    double reach = (v->ri + s->scale * r0_of(s, j) + s->gap) * (1 + 1e-6);
+    return dist2 < reach * reach;
+}
+
+/* Whether the list still holds every pair within reach although the two
+ * largest displacements together passed what the skin allows (g: what
+ * the radii grew, m: the largest displacement). A pair the list lacks
+ * was skin + reach apart at the build; it can have closed in by at most
+ * |d_i - d_j|, so while that stays under skin - g it is out of reach.
+ * Spheres at most h = (skin - g) / 2 from their build position cannot
+ * break that between themselves: only the far ones the move noted
+ * (past h) are checked, against every sphere whose build position lay
+ * near enough to be in reach now, and only pairs in reach now count (a
+ * pair out of reach needs no list entry this step). A far sphere must
+ * also stay within the wall's skin unless it was near the wall. Every
+ * bound gives up xr_err per sphere to the build positions' rounding.
+ * Returns 0 (rebuild) when a chunk noted more far spheres than it holds,
+ * or the far spheres checked since the build pass n / FAR_SEEN (where
+ * spheres drift together, as along a long thin box, many are far at each
+ * step and checking them all, step after step, costs more than a build). */
+static int list_still_holds(jam *s, double g, double m) {
+    const double h = 0.5 * (s->skin - g - 2 * s->xr_err), rmax = s->scale * s->r0max;
+    if (!(h > 0)) return 0;
+    for (size_t c = 0; c < s->nchunk; c++) {
+        if (s->nfar[c] > FAR_CAP) return 0;
+        s->far_seen += s->nfar[c];
+    }
+    /* each check walks a sphere's cells as the build does: past FAR_SEEN
+     * of the spheres since the build, a build is the cheaper */
+    if (s->far_seen > s->n / FAR_SEEN) return 0;
+    for (size_t c = 0; c < s->nchunk; c++)
+        for (uint32_t f = 0; f < s->nfar[c]; f++) {
+            size_t i = s->far[c * FAR_CAP + f];
+            hold_visit v;
+            double d2 = 0;
+            centre_of(s, i, v.xi);
+            for (int k = 0; k < 3; k++) {
+                v.di[k] = v.xi[k] - s->xr[3 * i + k];
+                d2 += v.di[k] * v.di[k];
+            }
+            double dl = sqrt(d2);
+            if (!s->near_wall[i] && dl + g + s->xr_err > s->skin) return 0;
+            v.ri = s->scale * r0_of(s, i);
+            v.g = g;
+            /* partners were within this of i at the build (and the
+             * floats' rounding) */
+            double R = (2 * rmax + s->gap + dl + m) * (1 + 1e-5);
+            if (visit_near_build(s, i, R, breaks_visit, &v)) return 0;
+        }
+    return 1;
+}
+
+/* What a sphere's displacement (from its build position rounded to
+ * float, xr) may be off by: half a float's unit in the last place of
+ * each coordinate, at most 2^-24 of the position's length, doubled;
+ * the spheres lie within the container's box and its extent again. In a
+ * unit box about 1e-7, at 175 from the origin 4e-5. */
+static double xr_rounding(const vp_container_info *ci) {
+    double m2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double a = fabs(ci->bmin[k]) > fabs(ci->bmax[k]) ? fabs(ci->bmin[k]) : fabs(ci->bmax[k]);
+        a += ci->bmax[k] - ci->bmin[k];
+        m2 += a * a;
+    }
+    return sqrt(m2) * 0x1p-23;
+}
+
+/* Rebuilds the list unless it still holds every pair within reach (the
+ * radii's growth counted): 0, -1 (out of memory) or -3 (a kept list
+ * lacks a pair, under VDBPACK_JAM_CHECK_LISTS). */
+static int maybe_rebuild(jam *s, int threads, const double disp2[2], int *builds) {
+    /* the two largest displacements added: any pair has closed in by at
+     * most that much; past the skin, list_still_holds looks closer */
+    double g = list_grown(s);
+    if (sqrt(disp2[0]) + sqrt(disp2[1]) + g + 2 * s->xr_err <= s->skin) return 0;
+    if (list_still_holds(s, g, sqrt(disp2[0]))) {
+        /* VDBPACK_JAM_CHECK_LISTS: the list kept, checked by brute force */
+        if (s->check_lists && list_lacks_pair(s, sqrt(disp2[0]))) return -3;
+        return 0;
+    }
     if (build_list(s, threads) != 0) return -1;
     (*builds)++;
     return 0;
@@ -1458,7 +1643,8 @@ static int maybe_rebuild(jam *s, int threads, const double disp2[2], int *builds
  * of mass msq^2, pushed up by a constant force and held by the overlaps)
  * by FIRE. A minimum: rms force below ftol of the rms overlap and, with
  * the scale free, dU/dscale within ftol of the drive. Returns 0, -1 (out
- * of memory) or -2 (cancelled). */
+ * of memory), -2 (cancelled) or -3 (VDBPACK_JAM_CHECK_LISTS found a
+ * pair missing). */
 static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *steps_total,
                     int *builds, double progress_lo, double progress_hi) {
     size_t n = s->n;
@@ -1511,10 +1697,13 @@ static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *ste
             s->scale += s->dt * v / s->msq;
             if (!(s->scale > s->scale_lo && s->scale < s->scale_hi)) break;
         }
+        double h = 0.5 * (s->skin - list_grown(s) - 2 * s->xr_err);
+        s->far2 = h > 0 ? h * h : 0.0;
         vp_parallel_for(threads, s->nchunk, move_chunk, s);
         sums mv = add_up(s, 1);
         int built = *builds;
-        if (maybe_rebuild(s, threads, mv.disp2, builds) != 0) return -1;
+        int rc = maybe_rebuild(s, threads, mv.disp2, builds);
+        if (rc != 0) return rc;
         /* swaps in the quench, on a list just built */
         if (s->swap && !s->baro && *builds != built && *builds % SWAP_EVERY == 0 &&
             swap_radii(s) != 0)
@@ -1836,6 +2025,7 @@ static void jam_free(jam *s) {
     free(s->nb);
     free(s->near_wall);
     free(s->cstart);
+    free(s->far);
 }
 
 /* The quench runs in single precision: its records (xq, with eight of
@@ -1985,10 +2175,11 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     s.id = malloc(n * sizeof *s.id);
     s.off = malloc((n + 1) * sizeof *s.off);
     s.near_wall = malloc(n);
+    s.far = malloc(s.nchunk * FAR_CAP * sizeof *s.far);
     vp_particles *p = NULL;
     vp_jam_report rep;
     memset(&rep, 0, sizeof rep);
-    if (!s.x || !s.v || !s.f || !s.xr || !s.id || !s.off || !s.near_wall) {
+    if (!s.x || !s.v || !s.f || !s.xr || !s.id || !s.off || !s.near_wall || !s.far) {
         res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for %zu spheres", n);
         goto done;
     }
@@ -2025,6 +2216,17 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     const char *no_simd = getenv("VDBPACK_NO_SIMD");
     s.avx2 = __builtin_cpu_supports("avx2") && !(no_simd && *no_simd && strcmp(no_simd, "0") != 0);
 #endif
+    s.xr_err = xr_rounding(&c->info);
+    /* tests: VDBPACK_JAM_ROWS_CAP=N scans sets of rows over N spheres
+     * as records (as a long thin box does with every set) */
+    const char *rows_cap = getenv("VDBPACK_JAM_ROWS_CAP");
+    s.rows_cap = ROWS_CAP;
+    if (rows_cap && *rows_cap) {
+        long v = strtol(rows_cap, NULL, 10);
+        s.rows_cap = v < 0 ? 0 : v < ROWS_CAP ? (uint32_t)v : ROWS_CAP;
+    }
+    const char *check = getenv("VDBPACK_JAM_CHECK_LISTS");
+    s.check_lists = check && *check && strcmp(check, "0") != 0;
 
     /* 2. a quench at the start's scale, then the scale set free under a
      * falling pressure until the largest overlap is below the finish */
@@ -2069,6 +2271,12 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
                           0.95 * (1.0 - exp(-(mins + 1) / 3.0)));
         if (rc == -2) {
             res = vp_fail(ctx, VP_ERR_CANCELLED, "jam: cancelled");
+            goto done;
+        }
+        if (rc == -3) {
+            res = vp_fail(ctx, VP_ERR_INTERNAL,
+                          "jam: a neighbour list kept lacks a pair in reach "
+                          "(VDBPACK_JAM_CHECK_LISTS; please report it)");
             goto done;
         }
         if (rc != 0 || (mins == 0 && leave_quench(&s) != 0)) {
@@ -2120,6 +2328,11 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
 
     /* 4. what the packing is: contacts, rattlers, the core */
     contacts(&s, P->contact_gap, &rep);
+    if (s.check_lists)
+        fprintf(stderr,
+                "vdbpack: jam: %ld neighbour lists kept and checked, %ld pairs in reach, none "
+                "missing\n",
+                s.lists_checked, s.pairs_checked);
     core(&s, &rep);
 
     /* 5. the output, in the order the spheres were drawn */
