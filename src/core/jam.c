@@ -1609,7 +1609,7 @@ static int list_still_holds(jam *s, double g, double m) {
  * float, xr) may be off by: half a float's unit in the last place of
  * each coordinate, at most 2^-24 of the position's length, doubled;
  * the spheres lie within the container's box and its extent again. In a
- * unit box about 1e-7, at 175 from the origin 4e-5. */
+ * unit box about 3e-7, in box:350,1,1 6e-5. */
 static double xr_rounding(const vp_container_info *ci) {
     double m2 = 0;
     for (int k = 0; k < 3; k++) {
