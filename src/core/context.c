@@ -71,6 +71,11 @@ vp_result vp_fail(vp_context *ctx, vp_result r, const char *fmt, ...) {
     return r;
 }
 
+int vp_env_flag(const char *name) {
+    const char *v = getenv(name);
+    return v && *v && strcmp(v, "0") != 0;
+}
+
 int vp_threads_for(const vp_context *ctx) {
     if (ctx && ctx->threads > 0) return ctx->threads;
     long n = sysconf(_SC_NPROCESSORS_ONLN);

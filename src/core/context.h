@@ -36,6 +36,9 @@ int vp_report_progress_counts(vp_context *ctx, double fraction, const char *stag
 uint64_t vp_memory_limit(const vp_context *ctx);
 /* The part of path after its last '/' (a pointer into path). */
 const char *vp_path_base(const char *path);
+/* Whether the environment variable name is set to anything but "" or
+ * "0" (the switches tests use: VDBPACK_NO_SIMD and the like). */
+int vp_env_flag(const char *name);
 /* "1.5 GB"-style text for a byte count. */
 void vp_format_bytes(double bytes, char *out, size_t outlen);
 /* Monotonic seconds. */

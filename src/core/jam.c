@@ -2213,8 +2213,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     }
     int threads = vp_threads_for(ctx);
 #ifdef VP_JAM_AVX2
-    const char *no_simd = getenv("VDBPACK_NO_SIMD");
-    s.avx2 = __builtin_cpu_supports("avx2") && !(no_simd && *no_simd && strcmp(no_simd, "0") != 0);
+    s.avx2 = __builtin_cpu_supports("avx2") && !vp_env_flag("VDBPACK_NO_SIMD");
 #endif
     s.xr_err = xr_rounding(&c->info);
     /* tests: VDBPACK_JAM_ROWS_CAP=N scans sets of rows over N spheres
@@ -2225,8 +2224,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         long v = strtol(rows_cap, NULL, 10);
         s.rows_cap = v < 0 ? 0 : v < ROWS_CAP ? (uint32_t)v : ROWS_CAP;
     }
-    const char *check = getenv("VDBPACK_JAM_CHECK_LISTS");
-    s.check_lists = check && *check && strcmp(check, "0") != 0;
+    s.check_lists = vp_env_flag("VDBPACK_JAM_CHECK_LISTS");
 
     /* 2. a quench at the start's scale, then the scale set free under a
      * falling pressure until the largest overlap is below the finish */

@@ -1109,12 +1109,6 @@ static vp_result resolve_kinds(vp_context *ctx, const vp_rsa_params *params, vp_
     return VP_OK;
 }
 
-/* An environment variable set to anything but "" or "0". */
-static int env_flag(const char *name) {
-    const char *v = getenv(name);
-    return v && *v && strcmp(v, "0") != 0;
-}
-
 vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_params *params,
                       vp_particles **out, vp_rsa_report *report) {
     double t0 = vp_seconds();
@@ -1264,9 +1258,9 @@ vp_result vp_pack_rsa(vp_context *ctx, const vp_container *c, const vp_rsa_param
     rsa s;
     memset(&s, 0, sizeof s);
     s.min_r = HUGE_VAL;
-    s.no_top = env_flag("VDBPACK_NO_TOP_BALLS");
+    s.no_top = vp_env_flag("VDBPACK_NO_TOP_BALLS");
 #ifdef VP_HAVE_AVX2_SCAN
-    s.avx2 = __builtin_cpu_supports("avx2") && !env_flag("VDBPACK_NO_SIMD");
+    s.avx2 = __builtin_cpu_supports("avx2") && !vp_env_flag("VDBPACK_NO_SIMD");
 #endif
     s.ctx = ctx;
     s.c = c;
