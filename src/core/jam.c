@@ -1034,13 +1034,12 @@ static void pair_forces_q_c(const jam *s, size_t i, pair_sum *o) {
  * sums, added as lanes8_add does, by horizontal additions); 1 (nothing out)
  * where two centres coincide, for the portable form. */
 __attribute__((target("avx2"))) static inline __attribute__((always_inline)) int
-pair_forces_q_avx2(const jam *s, size_t i, __m128 *out) {
+pair_forces_q_avx2(const jam *s, size_t i, float gap_q, __m128 *out) {
     const int32_t *xi = s->xq + 4 * i;
     const __m256i xi0 = _mm256_set1_epi32(xi[0]), xi1 = _mm256_set1_epi32(xi[1]),
                   xi2 = _mm256_set1_epi32(xi[2]);
-    const __m256 ri = _mm256_set1_ps(q_radius(s, i) + (float)(s->gap / s->qres)),
-                 quarter = _mm256_set1_ps(0.25f), one = _mm256_set1_ps(1.0f),
-                 zero = _mm256_setzero_ps();
+    const __m256 ri = _mm256_set1_ps(q_radius(s, i) + gap_q), quarter = _mm256_set1_ps(0.25f),
+                 one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
     const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     __m256 ax = zero, ay = zero, az = zero, ae = zero;
     uint32_t k0 = s->off[i], e = s->off[i + 1];
@@ -1102,11 +1101,12 @@ __attribute__((target("avx2"))) static void force_range_avx2(jam *s, size_t lo, 
     double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
     const __m256d qs = _mm256_set_pd(s->qres * s->qres, s->qres, s->qres, s->qres);
     const __m128i m3 = _mm_setr_epi32(-1, -1, -1, 0);
+    const float gap_q = s->xq ? (float)(s->gap / s->qres) : 0.0f;
     for (size_t i = lo; i < hi; i++) {
         __m256d F; /* fx, fy, fz, energy */
         if (s->xq) {
             __m128 q;
-            if (!pair_forces_q_avx2(s, i, &q)) {
+            if (!pair_forces_q_avx2(s, i, gap_q, &q)) {
                 F = _mm256_mul_pd(_mm256_cvtps_pd(q), qs);
             } else {
                 pair_sum ps;
@@ -1138,8 +1138,19 @@ __attribute__((target("avx2"))) static void force_range_avx2(jam *s, size_t lo, 
         } else {
             F = _mm256_blend_pd(F, _mm256_setzero_pd(), 0x8);
         }
-        _mm_maskstore_ps(s->f + 3 * i, m3, _mm256_cvtpd_ps(F));
-        const __m256d V = _mm256_cvtps_pd(_mm_maskload_ps(s->v + 3 * i, m3));
+        /* whole four floats but for the range's last sphere: the fourth
+         * lane is the next sphere's, written or read in its turn (a masked
+         * store is slow on some processors, such as AMD's Zen 3) */
+        const __m128 F4 = _mm256_cvtpd_ps(F);
+        __m128 V4;
+        if (i + 1 < hi) {
+            _mm_storeu_ps(s->f + 3 * i, F4);
+            V4 = _mm_and_ps(_mm_loadu_ps(s->v + 3 * i), _mm_castsi128_ps(m3));
+        } else {
+            _mm_maskstore_ps(s->f + 3 * i, m3, F4);
+            V4 = _mm_maskload_ps(s->v + 3 * i, m3);
+        }
+        const __m256d V = _mm256_cvtps_pd(V4);
         /* (p0 + p1) + p2 of F.v, F.F and v.v (the fourth lanes 0) */
         const __m256d h = _mm256_hadd_pd(_mm256_mul_pd(F, V), _mm256_mul_pd(F, F));
         const __m128d t = _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1));
