@@ -361,13 +361,13 @@ void pack_print_summary(const pack_opts *o, const vp_container_info *ci, const v
                x->minimizations, x->iterations, x->radius_scale, x->max_overlap);
         /* a jammed packing has a few rattlers (5 to 15 % in a box); a
          * third or more: the contact network does not hold the packing
-         * (a channel a few diameters across jams in plugs with loose
-         * stretches between them, docs/jam.md) */
+         * (a long channel a few diameters across can end so: its
+         * pressure not yet even along it, docs/jam.md) */
         printf("  contacts: Z = %.3f over non-rattlers, rattlers %.1f %%%s\n", x->mean_contacts,
                100.0 * x->rattler_fraction,
                x->rattler_fraction >= 1.0 / 3.0
-                   ? " (a third or more: not jammed; a long narrow container jams in plugs "
-                     "with loose stretches between them: docs/jam.md)"
+                   ? " (a third or more: not jammed; long narrow containers can end so: "
+                     "docs/jam.md)"
                    : "");
         if (x->core_count)
             printf("  packing fraction %.4f (core, 5 diameters from the wall: %.4f over %zu "
