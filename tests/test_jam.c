@@ -237,6 +237,58 @@ static void test_jammed(size_t count, double zlo, double zhi) {
 
 static void test_small(void) { test_jammed(800, 5.0, 6.5); }
 
+/* A container through callbacks that counts its distance samples: the
+ * unit sphere. */
+typedef struct counted_sphere {
+    long samples;
+} counted_sphere;
+
+static double counted_distance(void *user, const double p[3]) {
+    __atomic_add_fetch(&((counted_sphere *)user)->samples, 1, __ATOMIC_RELAXED);
+    return sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1.0;
+}
+
+/* The wall's direction is kept while a sphere stays put (docs/jam.md): a
+ * FIRE step samples the container about once for each sphere near the
+ * wall, not seven times (the overlap and six differences) as it would
+ * without, and the packing still holds every sphere inside and jams. */
+static void test_wall_samples(void) {
+    counted_sphere cs = {0};
+    static const vp_container_ops ops = {counted_distance, NULL, NULL};
+    const double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    vp_container *c = NULL;
+    ASSERT_OK(g_ctx, vp_container_create_custom(g_ctx, &ops, &cs, lo, hi, 4.0 / 3.0 * M_PI, &c));
+    vp_jam_params jp;
+    vp_jam_params_init(&jp);
+    jp.count = 1500;
+    jp.seed = 3;
+    ASSERT_OK(g_ctx, vp_size_dist_parse(g_ctx, "1", &jp.radius));
+    vp_context_set_threads(g_ctx, 1);
+    vp_particles *p = NULL;
+    vp_jam_report rep;
+    ASSERT_OK(g_ctx, vp_pack_jam(g_ctx, c, &jp, &p, &rep));
+    /* spheres within a diameter and a skin of the wall (those it samples) */
+    size_t near = 0, touching = 0;
+    double worst = -HUGE_VAL;
+    for (size_t i = 0; i < p->count; i++) {
+        double r = radius_of(p, i), d = wall_distance(1, p->positions + 3 * i);
+        if (-d < 2.5 * r) near++;
+        if (-d - r < 1e-4 * 2 * r) touching++;
+        if (d + r > worst) worst = d + r;
+    }
+    double per = (double)cs.samples / (double)rep.iterations / (double)near;
+    fprintf(stderr,
+            "   %ld samples in %ld FIRE steps: %.2f a step for each of the %zu spheres within "
+            "2.5 r of the wall (%zu touching it); fraction %.4f\n",
+            cs.samples, rep.iterations, per, near, touching, rep.fraction);
+    ASSERT_LE(worst, 1e-12);
+    ASSERT_GE((double)touching, 0.2 * (double)near);
+    ASSERT_LE(per, 4.5); /* 6.55 without kept directions, 2.80 with (2026-11-29) */
+    ASSERT_GE(rep.fraction, 0.55);
+    vp_particles_destroy(p);
+    vp_container_destroy(c);
+}
+
 static void test_ten_thousand(void) {
     if (SANITIZED) {
         fprintf(stderr, "   skipped in a sanitizer build\n");
@@ -490,6 +542,7 @@ int main(void) {
     RUN_TEST(test_swaps);
     RUN_TEST(test_containers_and_sizes);
     RUN_TEST(test_small);
+    RUN_TEST(test_wall_samples);
     RUN_TEST(test_ten_thousand);
     vp_context_destroy(g_ctx);
     fprintf(stderr, "all jam tests passed\n");

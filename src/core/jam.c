@@ -27,7 +27,8 @@
  * on another by the skin (the radii's growth counted): the two largest
  * displacements added, and past that each sphere that moved over half
  * the skin against its neighbours (list_still_holds); the wall is sampled only for spheres the
- * list build found within reach of it; the pair forces, and the list
+ * list build found within reach of it, and its direction (six samples) kept while a sphere
+ * stays within WALL_KEEP of where it was taken (wall_kept); the pair forces, and the list
  * build's distance tests, take four list entries (candidates) at a time
  * (AVX2 where the processor has it, the same arithmetic without; the FIRE
  * move and the force pass's sums too); the list's cells are half the reach
@@ -105,6 +106,9 @@
 #define QUENCH_SKIN 0.35    /* the list's skin in the quench, of the mean diameter */
 #define SKIN 0.15           /* and after it */
 #define CORE_DIAMETERS 5.0
+/* a sphere's wall direction is kept while it stays within this many mean
+ * diameters of where it was taken (wall_kept) */
+#define WALL_KEEP 0.001
 #define UNJAMMED (1e-3 * FINISH_OVERLAP) /* rms overlap of the mean diameter: none */
 
 /* Whether the radii are spread enough to swap them (and start denser). */
@@ -144,6 +148,13 @@ typedef struct jam {
     uint32_t *nb;
     size_t nb_cap;
     uint8_t *near_wall; /* n: within reach of the wall until the next build */
+    /* the wall's direction kept for each near-wall sphere, in sphere order
+     * (wall_kept): where it was taken (x, y, z; NaN: not yet since the
+     * build) and the direction, six floats a sphere; each chunk's first */
+    float *wdir;
+    size_t wdir_cap;
+    uint32_t wbase[NCHUNK], wcount[NCHUNK];
+    double wkeep2; /* the squared distance a kept direction serves */
     double scale, skin, r0max, dmean;
     /* the chunks' last list sizes, and the one-pass build's regions */
     uint32_t tot[NCHUNK], reg[NCHUNK], est[NCHUNK];
@@ -242,18 +253,14 @@ static void chunk_range(const jam *s, size_t ci, size_t *lo, size_t *hi) {
     if (*hi > s->n) *hi = s->n;
 }
 
-/* The wall's overlap of a sphere of radius r at x (<= 0: none) and, when
- * it overlaps, the direction the wall pushes it back: minus a gradient of
- * d taken by central differences r/2 either side of x. The
+/* The direction the wall pushes a sphere of radius r at x back: minus a
+ * gradient of d taken by central differences r/2 either side of x. The
  * container's own gradient jumps across its medial axis (at an edge of a
  * box, from one face's normal to the other's), where a sphere touching
  * both faces was pushed by one and then the other in turn and FIRE never
  * settled; the differences blend the two over r/2, so the wall's force is
  * continuous. */
-static double wall_overlap(const jam *s, const double *x, double r, double g[3]) {
-    double d = vp_container_distance(s->c, x);
-    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
-    if (w <= 0) return w;
+static void wall_direction(const jam *s, const double *x, double r, double g[3]) {
     double h = 0.5 * r, n2 = 0;
     for (int a = 0; a < 3; a++) {
         double p[3] = {x[0], x[1], x[2]}, q[3] = {x[0], x[1], x[2]};
@@ -267,6 +274,41 @@ static double wall_overlap(const jam *s, const double *x, double r, double g[3])
         for (int a = 0; a < 3; a++) g[a] *= inv;
     } else {
         vp_container_gradient(s->c, x, g);
+    }
+}
+
+/* The wall's overlap of a sphere of radius r at x (<= 0: none) and, when
+ * it overlaps, its direction (wall_direction). */
+static double wall_overlap(const jam *s, const double *x, double r, double g[3]) {
+    double d = vp_container_distance(s->c, x);
+    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
+    if (w > 0) wall_direction(s, x, r, g);
+    return w;
+}
+
+/* wall_overlap in a minimisation: the direction is the one kept in slot
+ * while the sphere stays within sqrt(wkeep2) (WALL_KEEP mean diameters)
+ * of where it was taken, and taken again (and kept) past that. The
+ * overlap is always the container's at x; the kept direction is off the
+ * one at x by at most about sqrt(wkeep2) / (r / 2) radians, 0.004 for a
+ * sphere of the mean size (the differences' blend turns over r / 2 at
+ * the sharpest), and the six samples that take it, most of a mesh
+ * container's time, are taken only while the sphere still moves. */
+static double wall_kept(const jam *s, const double *x, double r, double g[3], float *slot) {
+    double d = vp_container_distance(s->c, x);
+    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
+    if (w <= 0) return w;
+    double e0 = x[0] - slot[0], e1 = x[1] - slot[1], e2 = x[2] - slot[2];
+    if (e0 * e0 + e1 * e1 + e2 * e2 <= s->wkeep2) { /* false for NaN: none kept */
+        g[0] = slot[3];
+        g[1] = slot[4];
+        g[2] = slot[5];
+        return w;
+    }
+    wall_direction(s, x, r, g);
+    for (int k = 0; k < 3; k++) {
+        slot[k] = (float)x[k];
+        slot[3 + k] = (float)g[k];
     }
     return w;
 }
@@ -739,6 +781,7 @@ static void build_chunk(void *user, size_t ci) {
     uint32_t room = b->fill == 2 ? s->est[ci] : 0, used = 0;
     int over = 0;
     qrows rb = {.y = -1};
+    uint32_t nwall = 0;
     for (size_t i = lo; i < hi; i++) {
         double xi[3];
         centre_of(s, i, xi);
@@ -797,9 +840,11 @@ static void build_chunk(void *user, size_t ci) {
             double d = vp_container_distance(s->c, xi);
             double w = (s->fit == VP_FIT_INSIDE ? d + ri : d) + s->margin;
             s->near_wall[i] = w > -s->skin;
+            nwall += s->near_wall[i];
             for (int k = 0; k < 3; k++) s->xr[3 * i + k] = (float)xi[k];
         }
     }
+    if (b->fill != 1) s->wcount[ci] = nwall;
     free(rb.buf);
     s->tot[ci] = used;
     s->over[ci] = (uint8_t)over;
@@ -809,6 +854,25 @@ static void build_chunk(void *user, size_t ci) {
  * may load four (eight, in the quench) entries where fewer are left (the lanes past the end are
  * switched off). */
 #define NB_PAD 8
+
+/* After a build: each chunk's first slot of kept wall directions, none
+ * kept yet. 0, or -1 (out of memory). */
+static int wall_slots(jam *s) {
+    size_t total = 0;
+    for (size_t c = 0; c < s->nchunk; c++) {
+        s->wbase[c] = (uint32_t)total;
+        total += s->wcount[c];
+    }
+    if (total > s->wdir_cap || total < s->wdir_cap / 2) {
+        size_t cap = total + total / 8 + 16;
+        float *w = realloc(s->wdir, 6 * cap * sizeof *w);
+        if (!w) return -1;
+        s->wdir = w;
+        s->wdir_cap = cap;
+    }
+    for (size_t k = 0; k < total; k++) s->wdir[6 * k] = NAN;
+    return 0;
+}
 
 /* Sorts the spheres by cell and builds the list: 0, or -1 (out of memory).
  * After the first build, in one pass (each chunk into a region sized from
@@ -853,7 +917,7 @@ static int build_list(jam *s, int threads) {
             }
             memset(s->nb + at, 0, NB_PAD * sizeof *s->nb);
             for (size_t i = 0; i < s->n; i++) s->off[i + 1] += s->off[i];
-            return 0;
+            return wall_slots(s);
         }
     }
     /* two passes: count, then write */
@@ -873,7 +937,7 @@ static int build_list(jam *s, int threads) {
     vp_parallel_for(threads, s->nchunk, build_chunk, &b);
     memset(s->nb + total, 0, NB_PAD * sizeof *s->nb);
     s->have_tot = 1;
-    return 0;
+    return wall_slots(s);
 }
 
 /* ---- forces and the FIRE step -------------------------------------------- */
@@ -1076,13 +1140,13 @@ pair_forces_q_avx2(const jam *s, size_t i, float gap_q, __m128 *out) {
 }
 #endif
 
-/* The wall's force and energy on sphere i (near it), added to f (x, y, z),
- * *e and *duds. */
-static void wall_force(const jam *s, size_t i, double f[3], double *e, double *duds) {
+/* The wall's force and energy on sphere i (near it, its kept direction in
+ * slot), added to f (x, y, z), *e and *duds. */
+static void wall_force(const jam *s, size_t i, float *slot, double f[3], double *e, double *duds) {
     const double r0i = r0_of(s, i), ri = s->scale * r0i;
     double g[3], xi[3];
     centre_of(s, i, xi);
-    double w = wall_overlap(s, xi, ri, g);
+    double w = wall_kept(s, xi, ri, g, slot);
     if (w > 0) {
         f[0] -= w * g[0];
         f[1] -= w * g[1];
@@ -1097,7 +1161,7 @@ static void wall_force(const jam *s, size_t i, double f[3], double *e, double *d
  * the same arithmetic in the same order. out: energy, F.v, F.F, v.v,
  * dU/dscale. */
 __attribute__((target("avx2"))) static void force_range_avx2(jam *s, size_t lo, size_t hi,
-                                                             double out[5]) {
+                                                             float *slot, double out[5]) {
     double e = 0, fv = 0, ff = 0, vv = 0, duds = 0;
     const __m256d qs = _mm256_set_pd(s->qres * s->qres, s->qres, s->qres, s->qres);
     const __m128i m3 = _mm_setr_epi32(-1, -1, -1, 0);
@@ -1133,7 +1197,8 @@ __attribute__((target("avx2"))) static void force_range_avx2(jam *s, size_t lo, 
             _mm_storeu_pd(f, _mm256_castpd256_pd128(F));
             f[2] = _mm_cvtsd_f64(fz_e);
             _mm256_zeroupper();
-            wall_force(s, i, f, &e, &duds);
+            wall_force(s, i, slot, f, &e, &duds);
+            slot += 6;
             F = _mm256_setr_pd(f[0], f[1], f[2], 0.0);
         } else {
             F = _mm256_blend_pd(F, _mm256_setzero_pd(), 0x8);
@@ -1172,10 +1237,11 @@ static void force_chunk(void *user, size_t ci) {
     jam *s = user;
     size_t lo, hi;
     chunk_range(s, ci, &lo, &hi);
+    float *slot = s->wdir + 6 * (size_t)s->wbase[ci];
 #ifdef VP_JAM_AVX2
     if (s->avx2) {
         double o[5];
-        force_range_avx2(s, lo, hi, o);
+        force_range_avx2(s, lo, hi, slot, o);
         s->sum[ci][0] = o[0];
         s->sum[ci][1] = o[1];
         s->sum[ci][2] = o[2];
@@ -1197,7 +1263,10 @@ static void force_chunk(void *user, size_t ci) {
         double f[3] = {ps.f[0], ps.f[1], ps.f[2]};
         e += ps.e;
         duds += ps.duds;
-        if (s->near_wall[i]) wall_force(s, i, f, &e, &duds);
+        if (s->near_wall[i]) {
+            wall_force(s, i, slot, f, &e, &duds);
+            slot += 6;
+        }
         float *fi = s->f + 3 * i;
         const float *vi = s->v + 3 * i;
         fi[0] = (float)f[0];
@@ -2035,6 +2104,7 @@ static void jam_free(jam *s) {
     free(s->off);
     free(s->nb);
     free(s->near_wall);
+    free(s->wdir);
     free(s->cstart);
     free(s->far);
 }
@@ -2243,6 +2313,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     long steps = 0;
     double worst = HUGE_VAL;
     s.dmean = 2 * s.scale * mean_r0;
+    s.wkeep2 = WALL_KEEP * s.dmean * WALL_KEEP * s.dmean;
     s.skin = QUENCH_SKIN * s.dmean;
     if (grid_init(&s, 2 * s.scale * s.r0max + s.skin) != 0 || build_list(&s, threads) != 0) {
         res = vp_fail(ctx, VP_ERR_OUT_OF_MEMORY, "jam: out of memory for the neighbour list");
