@@ -870,7 +870,7 @@ static int wall_slots(jam *s) {
         s->wdir = w;
         s->wdir_cap = cap;
     }
-    for (size_t k = 0; k < total; k++) s->wdir[6 * k] = NAN;
+    for (size_t k = 0; k < 6 * total; k++) s->wdir[k] = NAN;
     return 0;
 }
 
