@@ -28,7 +28,7 @@
  * displacements added, and past that each sphere that moved over half
  * the skin against its neighbours (list_still_holds); the wall is sampled only for spheres the
  * list build found within reach of it, and its direction (six samples) kept while a sphere
- * stays within WALL_KEEP of where it was taken (wall_kept); the pair forces, and the list
+ * stays within WALL_KEEP mean diameters of where it was taken (wall_kept); the pair forces, and the list
  * build's distance tests, take four list entries (candidates) at a time
  * (AVX2 where the processor has it, the same arithmetic without; the FIRE
  * move and the force pass's sums too); the list's cells are half the reach
@@ -277,16 +277,14 @@ static void wall_direction(const jam *s, const double *x, double r, double g[3])
     }
 }
 
-/* The wall's overlap of a sphere of radius r at x (<= 0: none) and, when
- * it overlaps, its direction (wall_direction). */
-static double wall_overlap(const jam *s, const double *x, double r, double g[3]) {
+/* The wall's overlap of a sphere of radius r at x (<= 0: none). */
+static double wall_depth(const jam *s, const double *x, double r) {
     double d = vp_container_distance(s->c, x);
-    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
-    if (w > 0) wall_direction(s, x, r, g);
-    return w;
+    return (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
 }
 
-/* wall_overlap in a minimisation: the direction is the one kept in slot
+/* The wall's overlap (wall_depth) and, when it overlaps, the direction it
+ * pushes the sphere back (wall_direction): the one kept in slot
  * while the sphere stays within sqrt(wkeep2) (WALL_KEEP mean diameters)
  * of where it was taken, and taken again (and kept) past that. The
  * overlap is always the container's at x; the kept direction is off the
@@ -295,8 +293,7 @@ static double wall_overlap(const jam *s, const double *x, double r, double g[3])
  * the sharpest), and the six samples that take it, most of a mesh
  * container's time, are taken only while the sphere still moves. */
 static double wall_kept(const jam *s, const double *x, double r, double g[3], float *slot) {
-    double d = vp_container_distance(s->c, x);
-    double w = (s->fit == VP_FIT_INSIDE ? d + r : d) + s->margin;
+    double w = wall_depth(s, x, r);
     if (w <= 0) return w;
     double e0 = x[0] - slot[0], e1 = x[1] - slot[1], e2 = x[2] - slot[2];
     if (e0 * e0 + e1 * e1 + e2 * e2 <= s->wkeep2) { /* false for NaN: none kept */
@@ -837,9 +834,7 @@ static void build_chunk(void *user, size_t ci) {
         if (b->fill != 1) {
             s->off[i + 1] = count;
             /* the wall: within reach until a sphere has moved skin / 2 */
-            double d = vp_container_distance(s->c, xi);
-            double w = (s->fit == VP_FIT_INSIDE ? d + ri : d) + s->margin;
-            s->near_wall[i] = w > -s->skin;
+            s->near_wall[i] = wall_depth(s, xi, ri) > -s->skin;
             nwall += s->near_wall[i];
             for (int k = 0; k < 3; k++) s->xr[3 * i + k] = (float)xi[k];
         }
@@ -1821,8 +1816,7 @@ static void overlap_chunk(void *user, size_t ci) {
             if (o > worst) worst = o;
         }
         if (s->near_wall[i]) {
-            double g[3];
-            double w = wall_overlap(s, xi, ri, g);
+            double w = wall_depth(s, xi, ri);
             double o = w / ri; /* the factor the last step takes from the radii */
             if (w > 0 && o > worst) worst = o;
         }
@@ -1911,9 +1905,7 @@ static void contacts(jam *s, double gap, vp_jam_report *rep) {
             if (sqrt(dx * dx + dy * dy + dz * dz) - sij - s->gap < gap * sij) c++;
         }
         if (s->near_wall[i]) {
-            double d = vp_container_distance(s->c, xi);
-            double w = (s->fit == VP_FIT_INSIDE ? -d - ri : -d) - s->margin;
-            if (w < gap * 2 * ri) c++;
+            if (-wall_depth(s, xi, ri) < gap * 2 * ri) c++;
         }
         z[i] = (uint8_t)(c > 255 ? 255 : c);
     }
