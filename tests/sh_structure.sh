@@ -35,9 +35,14 @@ PY
 # a lattice: every sphere in the core solid-like, q6 the FCC value 0.575
 check fcc "--radius 0.02" \
   'abs(r["fraction"] / j["packing_fraction"] - 1) < 1e-6 and r["solid_like_core"] > 0.99 and abs(r["mean_q6"] - 0.575) < 0.02'
-# a jammed packing: the core as the packer counts it, random in the bulk
+# a jammed packing: the core as the packer counts it, random in the bulk,
+# and the first 0.3 diameters against the wall (sphere caps only: no
+# centre is nearer than a radius) far below the core. (The walls' whole
+# deficit is not checked here: over this core of some 800 spheres its sign
+# is chance, 0.015 and -0.031 diameters for seed 3 before and after a
+# change of rounding, 0.07 to 0.09 for seeds 4 and 5.)
 check jam "--method jam --count 8000 --seed 3" \
-  'abs(r["fraction"] / j["packing_fraction"] - 1) < 1e-6 and r["core_count"] == j["core_count"] and abs(r["core_fraction"] / j["core_fraction"] - 1) < 5e-3 and r["solid_like_core"] < 0.05 and r["wall_deficit_diameters"] > 0'
+  'abs(r["fraction"] / j["packing_fraction"] - 1) < 1e-6 and r["core_count"] == j["core_count"] and abs(r["core_fraction"] / j["core_fraction"] - 1) < 5e-3 and r["solid_like_core"] < 0.05 and sum(r["profile"][:3]) / 3 < 0.8 * r["core_fraction"]'
 # RSA (fraction 0.37): no order at all
 check rsa "--method rsa --radius 0.025 --count max --seed 2" \
   'abs(r["fraction"] / j["packing_fraction"] - 1) < 1e-6 and r["solid_like"] < 0.01'
