@@ -2377,13 +2377,20 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     /* no jamming point found, or the scale ran off: spheres that the wall
      * does not hold (a centre pushed past a level set's band, where the
      * distance has no gradient) leave, and the rest are squeezed on and on
-     * or grow without bound. An error, not a packing of vanishing spheres. */
+     * or grow without bound; or, in a mesh whose thin parts the level set's
+     * voxels barely resolve, spheres stay pressed into the wall and every
+     * minimisation runs to its cap (suzanne.obj, 2 000 spheres, seed 1, at
+     * the default voxel: docs/jam.md). An error, not a packing of vanishing
+     * spheres. */
     if (mins >= MAX_MINIMIZATIONS || !(s.scale > s.scale_lo && s.scale < s.scale_hi)) {
         res = vp_fail(ctx, VP_ERR_NO_FIT,
                       "jam: no jammed state found (radii scaled by %.3g of the start after %d "
-                      "minimisations): spheres escape the container's wall%s",
+                      "minimisations): spheres escape the container's wall or stay pressed into "
+                      "it%s",
                       s.scale / start_scale, mins,
-                      s.fit == VP_FIT_CENTER ? " (with --fit center, try --fit inside)" : "");
+                      s.fit == VP_FIT_CENTER   ? " (with --fit center, try --fit inside)"
+                      : c->info.voxel_size > 0 ? " (where it is thin: try a finer --voxel-size)"
+                                               : "");
         goto done;
     }
     if (!vp_report_progress(ctx, 0.96, "jam")) {
