@@ -7,9 +7,10 @@
  * own baseline (`--method relax`, 100 000 equal spheres in box:1,1,1,
  * --target-fraction 0.64, seed 1), which the issue reports as 0.601 in
  * 29 s on this machine when it was filed. This machine's speed moves by
- * half from hour to hour, so the figure to compare with the issue's 30 s
- * is box100k's time over relax100k's, times 29 s: printed at the end when
- * both ran. */
+ * half from hour to hour, so box100k's time over relax100k's, times 29 s,
+ * printed at the end when both ran, is a guide to the issue's 30 s: the
+ * ratio itself moves by a quarter from run to run (relax waits on memory
+ * more than jam does; docs/jam.md). */
 #define _DEFAULT_SOURCE /* MAP_ANONYMOUS */
 #include "vdbpack/vdbpack.h"
 

@@ -113,12 +113,12 @@
  * diameters: the start's scale is not jammed (with --fit center, say, the
  * spheres may hang over the wall, so 0.70 of the volume does not fill it)
  * and the pressures after it find the jamming point from there. A jammed
- * quench sits near 0.05, the first pressure's mean overlap is MID_OVERLAP.
- * (It was 1e-3 of FINISH_OVERLAP, 8e-8, until 2026-11-29: a sphere that a
- * mesh's wall pushes along its smoothed direction, not the distance's own
- * gradient, so FIRE can circle there: an rms overlap near 1e-6 diameters
- * was left that no step cleared, and `peanut.obj --count 5000 --seed 2 --fit center` ran its quench to
- * the 200 000-step cap.) */
+ * quench sits near 0.05; the first pressure's mean overlap is MID_OVERLAP.
+ * Until 2026-11-29 this was 1e-3 of FINISH_OVERLAP (8e-8), and a mesh's
+ * wall, which pushes along its smoothed direction rather than the
+ * distance's own gradient, could leave an rms overlap near 1e-6 that FIRE
+ * circled around without clearing: peanut.obj --count 5000 --seed 2
+ * --fit center ran its quench to the 200 000-step cap. */
 #define UNJAMMED (1e-2 * MID_OVERLAP)
 
 /* Whether the radii are spread enough to swap them (and start denser). */
