@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
 using namespace vpv;
 
@@ -124,21 +125,25 @@ double surface_voxels(const openvdb::FloatTree &t)
 
 // The inside's volume in voxels: every voxel of every leaf counts
 // clamp(0.5 - value / voxel, 0, 1) (the smeared Heaviside of a distance),
-// every tile below zero all its voxels.
+// every tile below zero all its voxels. Each leaf's sum is taken in
+// parallel and the sums are added in the leaves' order: the same volume,
+// to the last bit, on every run (a parallel_reduce adds its pieces in the
+// order the threads happen to finish them, and the jam packer's start
+// scale, taken from this volume, then differed from run to run).
 double heaviside_volume(const openvdb::FloatGrid &g)
 {
     const openvdb::FloatTree &t = g.tree();
     const double h = g.transform().voxelSize()[0];
     openvdb::tree::LeafManager<const openvdb::FloatTree> lm(t);
-    double v = tbb::parallel_reduce(
-        lm.leafRange(), 0.0,
-        [h](const openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange &r, double s) {
-            for (auto leaf = r.begin(); leaf; ++leaf)
-                for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i)
-                    s += std::min(1.0, std::max(0.0, 0.5 - double(leaf->getValue(i)) / h));
-            return s;
-        },
-        [](double a, double b) { return a + b; });
+    std::vector<double> sums(lm.leafCount(), 0.0);
+    lm.foreach ([&](const openvdb::FloatTree::LeafNodeType &leaf, size_t n) {
+        double s = 0.0;
+        for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i)
+            s += std::min(1.0, std::max(0.0, 0.5 - double(leaf.getValue(i)) / h));
+        sums[n] = s;
+    });
+    double v = 0.0;
+    for (double s : sums) v += s;
     auto tile = t.cbeginValueAll();
     tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);
     for (; tile; ++tile)
