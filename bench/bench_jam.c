@@ -149,7 +149,7 @@ int main(int argc, char **argv) {
         for (int a = 1; a < argc; a++) want |= !strcmp(argv[a], cases[i].name);
         if (want) bench_fork(run_case, &cases[i]);
     }
-    if (seconds[box] > 0 && seconds[ref] > 0)
+    if (box < nc && ref < nc && seconds[box] > 0 && seconds[ref] > 0)
         printf("box100k / relax100k = %.3f: box100k at the issue's hour (relax 29 s) %.1f s "
                "(30 s asked)\n",
                seconds[box] / seconds[ref], 29.0 * seconds[box] / seconds[ref]);
