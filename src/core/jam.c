@@ -1845,10 +1845,10 @@ static int minimize(jam *s, vp_context *ctx, int threads, double ftol, long *ste
 }
 
 /* The largest relative overlap (pairs over r_i + r_j, the wall over r_i)
- * at the current scale. */
+ * at the current scale, and of the pairs alone (relocate_squeezed). */
 typedef struct overlap_q {
     jam *s;
-    double worst[NCHUNK];
+    double worst[NCHUNK], pair[NCHUNK];
 } overlap_q;
 
 static void overlap_chunk(void *user, size_t ci) {
@@ -1871,8 +1871,11 @@ static void overlap_chunk(void *user, size_t ci) {
             double o = (reach - sqrt(d2)) / sij;
             if (o > worst) worst = o;
         }
+    }
+    q->pair[ci] = worst;
+    for (size_t i = lo; i < hi; i++) {
         if (s->near_wall[i]) {
-            double w = wall_depth(s, xi, ri);
+            double ri = s->scale * R0(s, i), w = wall_depth(s, s->x + 4 * i, ri);
             double o = w / ri; /* the factor the last step takes from the radii */
             if (w > 0 && o > worst) worst = o;
         }
@@ -1880,15 +1883,18 @@ static void overlap_chunk(void *user, size_t ci) {
     q->worst[ci] = worst;
 }
 
-static double largest_overlap(jam *s, int threads) {
+static double largest_overlap(jam *s, int threads, double *pair) {
     overlap_q *q = malloc(sizeof *q);
     if (!q) return 0.0;
     q->s = s;
     vp_parallel_for(threads, s->nchunk, overlap_chunk, q);
-    double w = 0;
-    for (size_t c = 0; c < s->nchunk; c++)
+    double w = 0, p = 0;
+    for (size_t c = 0; c < s->nchunk; c++) {
         if (q->worst[c] > w) w = q->worst[c];
+        if (q->pair[c] > p) p = q->pair[c];
+    }
     free(q);
+    if (pair) *pair = p;
     return w;
 }
 
@@ -1972,30 +1978,12 @@ static int spot_visit_fn(const jam *s, size_t i, uint32_t j, void *user) {
     return 0;
 }
 
-/* The largest pair overlap over r_i + r_j (the list is current). */
-static double largest_pair_overlap(const jam *s) {
-    double worst = 0;
-    for (size_t i = 0; i < s->n; i++) {
-        const double *xi = s->x + 4 * i;
-        double ri = s->scale * R0(s, i);
-        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
-            const double *xj = s->x + 4 * (size_t)s->nb[k];
-            double sij = ri + s->scale * xj[3], reach = sij + s->gap;
-            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-            double d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 < reach * reach && (reach - sqrt(d2)) / sij > worst)
-                worst = (reach - sqrt(d2)) / sij;
-        }
-    }
-    return worst;
-}
-
-/* Moves the squeezed spheres (above) to better places, drawn from *rs;
- * returns how many moved (the list must then be rebuilt). */
-static size_t relocate_squeezed(jam *s, uint64_t *rs) {
+/* Moves the squeezed spheres (above) to better places, drawn from *rs,
+ * given the largest pair overlap (largest_overlap's); returns how many
+ * moved (the list must then be rebuilt). */
+static size_t relocate_squeezed(jam *s, double pair, uint64_t *rs) {
     if (s->fit != VP_FIT_INSIDE) return 0;
     const vp_container_info *ci = &s->c->info;
-    double pair = -1; /* not yet taken: only where a sphere is pressed from both sides */
     size_t moved = 0;
     for (size_t i = 0; i < s->n; i++) {
         if (!s->near_wall[i]) continue;
@@ -2004,7 +1992,6 @@ static size_t relocate_squeezed(jam *s, uint64_t *rs) {
         if (!(w > 0)) continue;
         wall_direction(s, xi, d, ri, g);
         if (g[0] * g[0] + g[1] * g[1] + g[2] * g[2] >= SQUEEZE_PUSH * SQUEEZE_PUSH) continue;
-        if (pair < 0) pair = largest_pair_overlap(s);
         if (!(w > SQUEEZE * pair * ri)) continue;
         double in = ri + s->margin, lo[3], hi[3];
         for (int k = 0; k < 3; k++) {
@@ -2454,7 +2441,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
     int builds = 0, mins = 0, relocations = 0;
     uint64_t rr = vp_rng_stream(P->seed, 4);
     long steps = 0;
-    double worst = HUGE_VAL;
+    double worst = HUGE_VAL, pair = 0; /* largest overlap: of all, of the pairs */
     s.dmean = 2 * s.scale * mean_r0;
     s.wkeep2 = WALL_KEEP * s.dmean * WALL_KEEP * s.dmean;
     s.skin = QUENCH_SKIN * s.dmean;
@@ -2507,10 +2494,10 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
             goto done;
         }
         /* after the quench the next pressure does not depend on it */
-        if (mins > 0) worst = largest_overlap(&s, threads);
+        if (mins > 0) worst = largest_overlap(&s, threads, &pair);
         if (!(s.scale > s.scale_lo && s.scale < s.scale_hi)) break;
         if (mins > 0 && relocations < MAX_RELOCATIONS) {
-            size_t m = relocate_squeezed(&s, &rr);
+            size_t m = relocate_squeezed(&s, pair, &rr);
             if (m > 0) {
                 relocations++;
                 if (build_list(&s, threads) != 0) {
@@ -2568,7 +2555,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         goto done;
     }
     s.scale *= f * (1.0 - 4 * DBL_EPSILON);
-    double last_worst = largest_overlap(&s, threads);
+    double last_worst = largest_overlap(&s, threads, NULL);
 
     /* 4. what the packing is: contacts, rattlers, the core */
     contacts(&s, P->contact_gap, &rep);
