@@ -232,6 +232,53 @@ else
   echo "  skip: $SUZ absent"
 fi
 
+# 4d. the last step: the radii shrink by a quarter of the largest overlap
+# left and the overlaps still left are pushed apart, where shrinking by
+# the whole largest overlap (VDBPACK_JAM_NO_RELIEVE=1) leaves most
+# contacts apart. Larger radii, no overlap (the numpy pair check), check
+# passes; a box, a sphere, a mesh (the wall's gradient from its level
+# set), and --fit center with a margin and a gap.
+PEANUT=$VP_SRC/vdb_samples/peanut.obj
+while IFS='|' read -r cont rest chk <&3; do
+  spec="$cont $rest $chk"
+  # shellcheck disable=SC2086
+  "$VDBPACK" pack "$cont" --method jam $rest $chk --seed 3 -o rel.vdb --json >rel.json ||
+    die "$spec: relieved pack"
+  "$VDBPACK" convert rel.vdb rel.csv -q || die "$spec: convert"
+  # shellcheck disable=SC2086
+  VDBPACK_JAM_NO_RELIEVE=1 "$VDBPACK" pack "$cont" --method jam $rest $chk --seed 3 \
+    -o plain.csv --json >plain.json || die "$spec: plain pack"
+  # shellcheck disable=SC2086
+  "$VDBPACK" check rel.vdb --container "$cont" $chk -q >/dev/null ||
+    die "$spec: check of the relieved packing"
+  $PY - "$spec" <<'PY' || die "$spec: the relieved last step"
+import json, sys
+import numpy as np
+r, p = json.load(open("rel.json")), json.load(open("plain.json"))
+gap = float(sys.argv[1].split("--gap ")[1].split()[0]) if "--gap" in sys.argv[1] else 0.0
+a = np.loadtxt("rel.csv", delimiter=",", skiprows=1, usecols=(1, 2, 3, 4))
+x, rad = a[:, :3], a[:, 3]
+worst = 0.0
+for i in range(len(rad) - 1):
+    dist = np.linalg.norm(x[i + 1:] - x[i], axis=1) - gap
+    s = rad[i + 1:] + rad[i]
+    worst = max(worst, float(((s - dist) / s).max()))
+assert worst <= 1e-6, "pair overlap %g" % worst
+assert r["radius_scale"] > p["radius_scale"], (r["radius_scale"], p["radius_scale"])
+assert r["max_overlap"] <= 1e-6 and r["mean_contacts"] >= p["mean_contacts"] - 0.05, (r, p)
+print("  ok: %s: radius scale %.7g against %.7g shrunk by the largest overlap (+%.1e), "
+      "fraction %.5f against %.5f, Z %.3f against %.3f"
+      % (sys.argv[1].split("/")[-1], r["radius_scale"], p["radius_scale"],
+         r["radius_scale"] / p["radius_scale"] - 1, r["packing_fraction"],
+         p["packing_fraction"], r["mean_contacts"], p["mean_contacts"]))
+PY
+done 3<<EOF
+box:1,1,1|--count 3000|
+sphere:1|--count 2000 --radius lognormal:0.05:0.01|
+$PEANUT|--count 3000|
+$PEANUT|--count 3000|--fit center --margin 0.01 --gap 0.002
+EOF
+
 # 5. bad input: one line, non-zero exit, no output file
 bad() { # DESCRIPTION ARGS...
   local what=$1; shift

@@ -207,6 +207,7 @@ typedef struct jam {
     size_t far_seen;   /* far spheres list_still_holds checked since the build */
     uint32_t rows_cap; /* ROWS_CAP, or less under VDBPACK_JAM_ROWS_CAP (tests) */
     int check_lists;   /* VDBPACK_JAM_CHECK_LISTS: kept lists checked, how many and pairs */
+    int no_relieve;    /* VDBPACK_JAM_NO_RELIEVE (tests): the last step shrinks only */
     long lists_checked, pairs_checked;
 } jam;
 
@@ -1943,6 +1944,89 @@ static void project_centres(jam *s) {
     }
 }
 
+/* The last minimum's overlaps are not all the largest: shrinking every
+ * radius by the largest (safe_factor) leaves most contacts apart by up to
+ * that much. Instead the radii shrink by RELIEVE_SHARE of it and the
+ * overlaps left are pushed apart, pair by pair and from the wall, in index
+ * order (one thread: the same moves for any thread count), for at most
+ * RELIEVE_SWEEPS sweeps; safe_factor then takes what is left. Kept only if
+ * it ends with larger radii than the plain shrink; otherwise the centres
+ * go back (their moves, summed in f, are undone). The moves are a small
+ * part of the list's skin, so the list still holds every pair in reach. */
+#define RELIEVE_SHARE 0.25
+#define RELIEVE_SWEEPS 64
+#define RELIEVE_TOL 1e-7 /* of r_i + r_j: what is left costs no more */
+
+/* One sweep at the scale sc: each overlapping pair apart by half its
+ * overlap each, each centre out of the wall; moves summed in s->f. Returns
+ * the largest overlap it met, of r_i + r_j (of 2 r_i at the wall). */
+static double relieve_sweep(jam *s, double sc) {
+    double worst = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        double *xi = s->x + 4 * i, r0i = R0(s, i);
+        float *fi = s->f + 3 * i;
+        for (uint32_t k = s->off[i]; k < s->off[i + 1]; k++) {
+            uint32_t j = s->nb[k];
+            if (j < i) continue;
+            double *xj = s->x + 4 * (size_t)j, sij = sc * (r0i + R0(s, j));
+            double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+            double d = sqrt(dx * dx + dy * dy + dz * dz), o = sij + s->gap - d;
+            if (!(o > 0) || !(d > 0)) continue;
+            if (o > worst * sij) worst = o / sij;
+            double h = (0.5 * o * (1.0 + 1e-9) + 1e-12 * sij) / d;
+            double u[3] = {h * dx, h * dy, h * dz};
+            float *fj = s->f + 3 * (size_t)j;
+            for (int a = 0; a < 3; a++) {
+                xi[a] += u[a];
+                xj[a] -= u[a];
+                fi[a] += (float)u[a];
+                fj[a] -= (float)u[a];
+            }
+        }
+        if (!s->near_wall[i]) continue;
+        double want = (s->fit == VP_FIT_INSIDE ? -sc * r0i : 0.0) - s->margin;
+        double d = vp_container_distance(s->c, xi);
+        if (!(d > want)) continue;
+        if (d - want > worst * 2 * sc * r0i)
+            worst = (d - want) / (2 * sc * r0i);
+        double g[3];
+        vp_container_gradient(s->c, xi, g);
+        double step = (d - want) * (1.0 + 1e-9) + 1e-12 * sc * r0i;
+        for (int a = 0; a < 3; a++) {
+            xi[a] -= step * g[a];
+            fi[a] -= (float)(step * g[a]);
+        }
+    }
+    return worst;
+}
+
+/* The factor for all radii that leaves no overlap, given f0 = safe_factor
+ * (the plain shrink); the centres may move (above). */
+static double relieve_overlaps(jam *s, double f0) {
+    if (s->no_relieve || !(f0 < 1.0)) return f0;
+    const double sc = s->scale, ft = 1.0 - RELIEVE_SHARE * (1.0 - f0);
+    memset(s->f, 0, 3 * s->n * sizeof *s->f);
+    for (int it = 0; it < RELIEVE_SWEEPS; it++)
+        if (relieve_sweep(s, sc * ft) < RELIEVE_TOL) break;
+    /* the list holds every pair in reach while no centre has moved half
+     * the skin since its build (a quarter here) */
+    double moved2 = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        const float *fi = s->f + 3 * i;
+        double m2 = (double)fi[0] * fi[0] + (double)fi[1] * fi[1] + (double)fi[2] * fi[2];
+        if (m2 > moved2) moved2 = m2;
+    }
+    if (moved2 < 0.0625 * s->skin * s->skin) {
+        s->scale = sc * ft;
+        double f1 = safe_factor(s);
+        s->scale = sc;
+        if (ft * f1 > f0) return ft * f1;
+    }
+    for (size_t i = 0; i < s->n; i++)
+        for (int a = 0; a < 3; a++) s->x[4 * i + a] -= s->f[3 * i + a];
+    return safe_factor(s);
+}
+
 /* ---- squeezed spheres ------------------------------------------------------ */
 
 /* A sphere in a part of the container thinner than itself (a mesh's thin
@@ -2435,6 +2519,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         s.rows_cap = v < 0 ? 0 : v < ROWS_CAP ? (uint32_t)v : ROWS_CAP;
     }
     s.check_lists = vp_env_flag("VDBPACK_JAM_CHECK_LISTS");
+    s.no_relieve = vp_env_flag("VDBPACK_JAM_NO_RELIEVE");
 
     /* 2. a quench at the start's scale, then the scale set free under a
      * falling pressure until the largest overlap is below the finish */
@@ -2548,7 +2633,7 @@ vp_result vp_pack_jam(vp_context *ctx, const vp_container *c, const vp_jam_param
         goto done;
     }
     builds++;
-    double f = safe_factor(&s);
+    double f = relieve_overlaps(&s, safe_factor(&s));
     if (!(f > 0.5)) {
         res = vp_fail(ctx, VP_ERR_NO_FIT,
                       "jam: no overlap-free state without shrinking the spheres by half (%g)", f);
