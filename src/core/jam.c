@@ -1937,21 +1937,32 @@ static double safe_factor(jam *s) {
     return f;
 }
 
+/* One step of a centre x out of the wall: where the signed distance is
+ * over want, x moves back along the gradient by the excess and a little
+ * more (extra), and the move is written to u. Returns the excess, 0 where
+ * there is none (or the distance is NaN). The caller owns x and u. */
+static double wall_step(const jam *s, double *x, double want, double extra, double u[3]) {
+    double d = vp_container_distance(s->c, x);
+    if (!(d > want)) return 0.0;
+    double g[3];
+    vp_container_gradient(s->c, x, g);
+    double step = (d - want) * (1.0 + 1e-9) + extra;
+    for (int k = 0; k < 3; k++) {
+        u[k] = step * g[k];
+        x[k] -= u[k];
+    }
+    return d - want;
+}
+
 /* Centres outside the container (or, fit inside, closer to the wall than
  * a small part of their radius) move back along the gradient. */
 static void project_centres(jam *s) {
     for (size_t i = 0; i < s->n; i++) {
-        double *x = s->x + 4 * i;
+        double *x = s->x + 4 * i, u[3];
         double want = (s->fit == VP_FIT_INSIDE ? -0.5 * s->scale * R0(s, i) : 0.0) - s->margin;
-        for (int it = 0; it < 8; it++) {
-            double d = vp_container_distance(s->c, x);
-            if (d <= want) break;
-            double g[3];
-            vp_container_gradient(s->c, x, g);
-            double step =
-                (d - want) * (1.0 + 1e-9) + 1e-12 + 1e-9 * s->scale * R0(s, i) * (1 << it);
-            for (int k = 0; k < 3; k++) x[k] -= step * g[k];
-        }
+        for (int it = 0; it < 8; it++)
+            if (wall_step(s, x, want, 1e-12 + 1e-9 * s->scale * R0(s, i) * (1 << it), u) == 0.0)
+                break;
     }
 }
 
@@ -1995,17 +2006,11 @@ static double relieve_sweep(jam *s, double sc) {
             }
         }
         if (!s->near_wall[i]) continue;
-        double want = (s->fit == VP_FIT_INSIDE ? -sc * r0i : 0.0) - s->margin;
-        double d = vp_container_distance(s->c, xi);
-        if (!(d > want)) continue;
-        if (d - want > worst * 2 * sc * r0i) worst = (d - want) / (2 * sc * r0i);
-        double g[3];
-        vp_container_gradient(s->c, xi, g);
-        double step = (d - want) * (1.0 + 1e-9) + 1e-12 * sc * r0i;
-        for (int a = 0; a < 3; a++) {
-            xi[a] -= step * g[a];
-            fi[a] -= (float)(step * g[a]);
-        }
+        double want = (s->fit == VP_FIT_INSIDE ? -sc * r0i : 0.0) - s->margin, u[3];
+        double e = wall_step(s, xi, want, 1e-12 * sc * r0i, u);
+        if (e == 0.0) continue;
+        if (e > worst * 2 * sc * r0i) worst = e / (2 * sc * r0i);
+        for (int a = 0; a < 3; a++) fi[a] -= (float)u[a];
     }
     return worst;
 }
