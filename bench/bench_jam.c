@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Jammed packing figures of issue 28, each case in its own process.
- * Usage: build/bench/bench_jam [--seed S | --seed A-B] [CASE...]
- *   (default: every case, seed 1; cases run in the order named, each seed
- *   in turn, so `relax100k box100k box1M relax100k` brackets the boxes
- *   with the reference; names below)
+ * Usage: build/bench/bench_jam [--seed S | --seed A-B] [--threads N] [CASE...]
+ *   (default: every case, seed 1, every core; cases run in the order named,
+ *   each seed in turn, so `relax100k box100k box1M relax100k` brackets the
+ *   boxes with the reference; names below). Two builds compare best when
+ *   both run at once with --threads 1, one on each core: the machine's
+ *   speed then moves under both alike.
  * Memory: (peak RSS - RSS before packing) / particles.
  *
  * The reference measured in the same run: case relax100k is the issue's
@@ -145,6 +147,7 @@ int main(int argc, char **argv) {
     };
     size_t nc = sizeof cases / sizeof *cases;
     unsigned long long seed_lo = 1, seed_hi = 1;
+    int threads = 0;
     size_t order[64], no = 0; /* the cases named, in order */
     for (int a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--seed") && a + 1 < argc) {
@@ -155,6 +158,16 @@ int main(int argc, char **argv) {
                 fprintf(stderr, "bench_jam: --seed S or A-B (1 <= A <= B, at most 1 000)\n");
                 return 2;
             }
+            continue;
+        }
+        if (!strcmp(argv[a], "--threads") && a + 1 < argc) {
+            char *end = NULL;
+            long n = strtol(argv[++a], &end, 10);
+            if (*end || n < 1 || n > 256) {
+                fprintf(stderr, "bench_jam: --threads N (1 to 256)\n");
+                return 2;
+            }
+            threads = (int)n;
             continue;
         }
         size_t i = 0;
@@ -175,6 +188,7 @@ int main(int argc, char **argv) {
     for (size_t r = 0; r < runs; r++) {
         jam_case k = cases[order[r % no]];
         k.seed = seed_lo + r / no;
+        if (threads) k.threads = threads;
         k.seconds = seconds + r;
         seconds[r] = -1;
         bench_fork(run_case, &k);
