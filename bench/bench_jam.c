@@ -36,7 +36,7 @@ typedef struct jam_case {
     const char *dist; /* --radius text */
     size_t count;
     const char *file;
-    int threads;
+    int threads; /* --threads; 0: every core */
     uint64_t seed;
     double *seconds; /* shared with the parent: the packing's time, or -1 */
 } jam_case;
@@ -133,17 +133,17 @@ static void run_case(void *arg) {
 
 int main(int argc, char **argv) {
     static jam_case cases[] = {
-        {"box10k", 0, 0, "1", 10000, NULL, 0},
-        {"box100k", 0, 0, "1", 100000, NULL, 0},
-        {"box1M", 0, 0, "1", 1000000, NULL, 0},
-        {"sphere20r", 1, 20, "1", 5120, NULL, 0},  /* 0.64 * 20^3 */
-        {"sphere40r", 1, 40, "1", 40960, NULL, 0}, /* 0.64 * 40^3 */
-        {"lognormal100k", 0, 0, "lognormal:1:0.2", 100000, NULL, 0},
-        {"binary100k", 0, 0, "list:1:1:1:1:1:1:1:1:2", 100000, NULL, 0},
-        {"peanut30k", 2, 0, "1", 30000, VP_SOURCE_DIR "/vdb_samples/peanut.obj", 0},
-        {"peanut200k", 2, 0, "1", 200000, VP_SOURCE_DIR "/vdb_samples/peanut.obj", 0},
-        {"skull200k", 2, 0, "1", 200000, VP_SHARED_CONTAINERS "/skull.obj", 0},
-        {"relax100k", 3, 0, "1", 100000, NULL, 0},
+        {"box10k", 0, 0, "1", 10000, NULL},
+        {"box100k", 0, 0, "1", 100000, NULL},
+        {"box1M", 0, 0, "1", 1000000, NULL},
+        {"sphere20r", 1, 20, "1", 5120, NULL},  /* 0.64 * 20^3 */
+        {"sphere40r", 1, 40, "1", 40960, NULL}, /* 0.64 * 40^3 */
+        {"lognormal100k", 0, 0, "lognormal:1:0.2", 100000, NULL},
+        {"binary100k", 0, 0, "list:1:1:1:1:1:1:1:1:2", 100000, NULL},
+        {"peanut30k", 2, 0, "1", 30000, VP_SOURCE_DIR "/vdb_samples/peanut.obj"},
+        {"peanut200k", 2, 0, "1", 200000, VP_SOURCE_DIR "/vdb_samples/peanut.obj"},
+        {"skull200k", 2, 0, "1", 200000, VP_SHARED_CONTAINERS "/skull.obj"},
+        {"relax100k", 3, 0, "1", 100000, NULL},
     };
     size_t nc = sizeof cases / sizeof *cases;
     unsigned long long seed_lo = 1, seed_hi = 1;
@@ -188,7 +188,7 @@ int main(int argc, char **argv) {
     for (size_t r = 0; r < runs; r++) {
         jam_case k = cases[order[r % no]];
         k.seed = seed_lo + r / no;
-        if (threads) k.threads = threads;
+        k.threads = threads; /* 0: every core */
         k.seconds = seconds + r;
         seconds[r] = -1;
         bench_fork(run_case, &k);
